@@ -1,0 +1,35 @@
+#pragma once
+// What every subcommand shares: where the configuration lives, and the loaders for it.
+
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "robot/rsr_model.h"
+#include "robot/sigma7_model.h"
+#include "src/core/pose.h"
+
+namespace robossis::apps {
+
+struct AppContext {
+  std::filesystem::path data_dir;  // --data-dir, else $ROBOSSIS_DATA_DIR, else the source tree's data/
+
+  std::filesystem::path ConfigPath(const std::string& name) const { return data_dir / "config" / name; }
+  robot::RsrModel LoadRsr() const { return robot::RsrModel::FromYaml(ConfigPath("rsr.yaml")); }
+  robot::Sigma7Model LoadSigma7() const { return robot::Sigma7Model::FromYaml(ConfigPath("sigma7.yaml")); }
+};
+
+// Each family of subcommands registers itself on the top-level app.
+void RegisterRobotCommands(CLI::App& app, const AppContext& context);
+void RegisterHcCommands(CLI::App& app, const AppContext& context);
+void RegisterDemoCommand(CLI::App& app, const AppContext& context);
+
+// "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI. Throws std::invalid_argument naming the option.
+Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name);
+
+// Prints a JSON document (pretty, one trailing newline) to stdout.
+void PrintJson(const nlohmann::ordered_json& document);
+
+}  // namespace robossis::apps

@@ -1,0 +1,61 @@
+// `robossis demo`: a complete simulated session and its report.
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+
+#include "src/apps/demo.h"
+#include "src/apps/plotting.h"
+
+namespace robossis::apps {
+
+void DemoContext::Progress(const std::string& message) const { std::cerr << "[demo] " << message << std::endl; }
+
+void DemoContext::Figure(const std::string& script, const std::vector<std::string>& args, const std::string& png,
+                         const std::string& caption) {
+  std::vector<std::string> full = args;
+  full.push_back("--out");
+  full.push_back(out.Path(png).string());
+  const PlotResult result = RunPlotScript(script, full);
+  if (result.ok) {
+    report << "![" << caption << "](" << png << ")\n\n*" << caption << "*\n\n";
+  } else {
+    report << "> Figure `" << png << "` was not rendered: " << result.message
+           << ". The data behind it is in this folder.\n\n";
+    Progress("warning: " + result.message);
+  }
+}
+
+void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
+  struct Options {
+    std::string out = "demo-report";
+    bool fast = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* demo = app.add_subcommand(
+      "demo", "Run a complete simulated session and write a report that reproduces the paper's figures\n"
+              "Example: robossis demo --out demo-report");
+  demo->add_option("--out", options->out, "Report folder (written atomically: complete or untouched)")
+      ->capture_default_str();
+  demo->add_flag("--fast", options->fast, "Smaller grids and shorter runs (used by the test suite)");
+  demo->callback([&context, options] {
+    const auto start = std::chrono::steady_clock::now();
+    StagedOutputDir out(options->out);
+    DemoContext demo{context, out, options->fast, {}};
+    demo.report << "# Robossis workbench: simulated session report\n\n"
+                << "Produced by `robossis demo" << (options->fast ? " --fast" : "")
+                << "` on the configuration in `" << context.data_dir.string() << "/config`. "
+                << "Every number below is computed by this run; the data behind each table and figure is in this "
+                   "folder.\n\n";
+    using Section = void (*)(DemoContext&);
+    for (const Section section : {&WriteRobotSection}) section(demo);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    demo.report << "---\nRun time: " << seconds << " s.\n";
+    out.Write("report.md", demo.report.str());
+    out.Commit();
+    demo.Progress("report written to " + (out.target() / "report.md").string());
+  });
+}
+
+}  // namespace robossis::apps

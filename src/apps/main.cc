@@ -1,0 +1,33 @@
+// robossis: the workbench's command line. Thin: parse, build, run, catch.
+
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+
+#include "src/apps/app_context.h"
+#include "src/core/config.h"
+
+int main(int argc, char** argv) {
+  using namespace robossis;
+  CLI::App app{"Robossis haptic workbench: sigma.7 leader, 3-arm parallel surgical robot (RSR) follower.\n"
+               "Units at the command line: mm, degrees, Hz; inside: SI.",
+               "robossis"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show the help of every subcommand");
+  apps::AppContext context;
+  context.data_dir = DefaultDataDir();
+  app.add_option("--data-dir", context.data_dir, "Folder with config/ and reference data (default: built-in data/)")
+      ->check(CLI::ExistingDirectory);
+  apps::RegisterRobotCommands(app, context);
+  apps::RegisterHcCommands(app, context);
+  apps::RegisterDemoCommand(app, context);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "robossis: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,24 @@
+#pragma once
+// JSON views of the RSR model and its kinematics results, in the edge units (mm, deg, N, N·m).
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "robot/rsr_kinematics.h"
+
+namespace robossis::apps {
+
+nlohmann::ordered_json RsrInfoJson(const robot::RsrModel& model);
+nlohmann::ordered_json RsrIkJson(const robot::RsrIkResult& ik);
+nlohmann::ordered_json RsrFkJson(const robot::RsrFkResult& fk);
+nlohmann::ordered_json RsrJacobianJson(const Matrix6d& J);
+nlohmann::ordered_json RsrStaticsJson(const robot::RsrStaticsResult& statics);
+
+// "arm 2 stroke = 360.000 mm beyond its limit 354.000 mm by 6.000 mm"
+std::string ViolationText(const robot::RsrLimitCheck& check);
+
+// Human-readable form of a flat JSON object: one "key: value" line per member.
+void PrintKeyValues(const nlohmann::ordered_json& document);
+
+}  // namespace robossis::apps

@@ -1,0 +1,60 @@
+#include "src/core/parse.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace robossis {
+
+namespace {
+bool TryParse(std::string_view field, double* out) {
+  // Trim spaces; strtod needs a NUL-terminated copy.
+  while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
+  while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+  if (field.empty()) return false;
+  const std::string copy(field);
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(copy.c_str(), &end);
+  if (end != copy.c_str() + copy.size() || errno == ERANGE || !std::isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+}  // namespace
+
+double ParseNumber(std::string_view text, const std::string& option_name) {
+  double v = 0.0;
+  if (!TryParse(text, &v)) {
+    throw std::invalid_argument(option_name + ": expected a finite number, got '" + std::string(text) + "'");
+  }
+  return v;
+}
+
+std::vector<double> ParseNumberList(std::string_view text, std::size_t count, const std::string& option_name,
+                                    const std::string& format_hint) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    fields.push_back(text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  const std::string expected =
+      "expected " + std::to_string(count) + " comma-separated numbers (" + format_hint + ")";
+  if (fields.size() != count) {
+    throw std::invalid_argument(option_name + ": " + expected + ", got " + std::to_string(fields.size()) + " in '" +
+                                std::string(text) + "'");
+  }
+  std::vector<double> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!TryParse(fields[i], &out[i])) {
+      throw std::invalid_argument(option_name + ": " + expected + "; value " + std::to_string(i + 1) + " is '" +
+                                  std::string(fields[i]) + "', not a finite number");
+    }
+  }
+  return out;
+}
+
+}  // namespace robossis
