@@ -45,10 +45,15 @@ RsrIkResult CalcInverseKinematics(const RsrModel& model, const Eigen::Isometry3d
     const double tangential = model.tangent_axis_F(i).dot(leg);
     // eq. 8: psi_i = asin(radial / d_i).
     const double psi = std::asin(std::clamp(radial / d, -1.0, 1.0));
-    // eq. 7: theta_i = asin(-tangential / (d_i cos psi_i)), written as atan2 so it stays exact near the limits and
-    // takes the physical branch (leg above the fixed ring, axial > 0) where eq. 7 is defined.
-    const double theta = std::atan2(-tangential, leg.z());
-    const double cone = std::acos(std::clamp(n.dot(z_M), -1.0, 1.0));
+    // eq. 7: theta_i = asin(-tangential / (d_i cos psi_i)), with d_i cos psi_i = hypot(tangential, axial). eq. 7 is
+    // the physical branch (leg above the fixed-ring plane, axial > 0); below it, atan2 keeps theta continuous.
+    const double d_cos_psi = std::sqrt(tangential * tangential + leg.z() * leg.z());
+    const double theta = leg.z() > 0.0 ? std::asin(std::clamp(-tangential / d_cos_psi, -1.0, 1.0))
+                                       : std::atan2(-tangential, leg.z());
+    // Cone angle between the leg and the ring normal: asin of the cross product is exact near 0 where acos is not.
+    const double cos_cone = n.dot(z_M);
+    const double cone = cos_cone > 0.7 ? std::asin(std::min(n.cross(z_M).norm(), 1.0))
+                                       : std::acos(std::clamp(cos_cone, -1.0, 1.0));
 
     out.joints.theta_rad[i] = theta;
     out.joints.d_m[i] = d;
@@ -112,7 +117,7 @@ RsrJointVector ActuatedJoints(const RsrModel& model, const Eigen::Isometry3d& X_
   RsrJointVector q;
   for (int i = 0; i < kNumArms; ++i) {
     const Eigen::Vector3d leg = X_FM * model.p_MB(i) - model.p_FA(i);
-    q[ThetaIndex(i)] = std::atan2(-model.tangent_axis_F(i).dot(leg), leg.z());  // eq. 7
+    q[ThetaIndex(i)] = std::atan2(-model.tangent_axis_F(i).dot(leg), leg.z());  // eq. 7 (see CalcInverseKinematics)
     q[StrokeIndex(i)] = leg.norm();                                             // eq. 6
   }
   return q;
