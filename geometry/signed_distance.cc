@@ -9,6 +9,9 @@
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
+#include <fcl/narrowphase/detail/traversal/distance/mesh_shape_distance_traversal_node.h>
 #include <fcl/narrowphase/distance.h>
 
 namespace robossis::geometry {
@@ -104,14 +107,15 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh) : mesh_(std::mov
     m.vertex_normal[T[t][2]] += AngleAt(c, a, b) * m.face_normal[t];
     for (int e = 0; e < 3; ++e) {
       const int i = T[t][e], j = T[t][(e + 1) % 3];
-      edge_sum[{std::min(i, j), std::max(i, j)}] += m.face_normal[t];  // edge pseudonormal: sum of the two faces
+      // Edge pseudonormal: the sum of the two faces' normals (an Eigen vector is not zero-initialised: insert Zero).
+      edge_sum.try_emplace({std::min(i, j), std::max(i, j)}, Eigen::Vector3d::Zero()).first->second += m.face_normal[t];
     }
   }
   for (Eigen::Vector3d& n : m.vertex_normal) n.normalize();
   for (std::size_t t = 0; t < T.size(); ++t) {
     for (int e = 0; e < 3; ++e) {
       const int i = T[t][e], j = T[t][(e + 1) % 3];
-      m.edge_normal[t][e] = edge_sum[{std::min(i, j), std::max(i, j)}].normalized();
+      m.edge_normal[t][e] = edge_sum.at({std::min(i, j), std::max(i, j)}).normalized();
     }
   }
   m.bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
@@ -127,18 +131,32 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh) : mesh_(std::mov
 BoundaryDistanceField::~BoundaryDistanceField() = default;
 
 struct SignedDistanceQuery::State {
+  // FCL's own traversal node for OBBRSS mesh vs shape, driven directly: fcl::distance() would rebuild the point's
+  // bounding volume through Sphere::getBoundVertices(), which allocates a std::vector on every call.
+  using Solver = fcl::detail::GJKSolver_libccd<double>;  // DEPENDENCIES.md: GST_INDEP is broken in FCL 0.7
+  using Node = fcl::detail::MeshShapeDistanceTraversalNodeOBBRSS<fcl::Sphered, Solver>;
   fcl::Sphered point{0.0};  // a zero-radius sphere: FCL's point query
+  Solver solver;
   fcl::DistanceRequestd request;
   fcl::DistanceResultd result;
-  fcl::Transform3d X_identity = fcl::Transform3d::Identity();
-  fcl::Transform3d X_point = fcl::Transform3d::Identity();
+  Node node;
   State() {
     request.enable_nearest_points = false;  // only the closest triangle is needed; its point is recomputed exactly
     request.enable_signed_distance = false;
-    request.gjk_solver_type = fcl::GST_LIBCCD;  // DEPENDENCIES.md: GST_INDEP is broken in FCL 0.7
     request.rel_err = 0;
     request.abs_err = 0;
-    point.computeLocalAABB();
+    node.request = request;
+    node.result = &result;
+    node.model2 = &point;
+    node.nsolver = &solver;
+    node.tf1 = fcl::Transform3d::Identity();
+    node.tf2 = fcl::Transform3d::Identity();
+    // The point's bounding volume: a degenerate OBB and RSS at the point, axes along the frame.
+    node.model2_bv.obb.axis.setIdentity();
+    node.model2_bv.obb.extent.setZero();
+    node.model2_bv.rss.axis.setIdentity();
+    node.model2_bv.rss.l[0] = node.model2_bv.rss.l[1] = 0;
+    node.model2_bv.rss.r = 0;
   }
 };
 
@@ -154,9 +172,15 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   if (!q.allFinite() || !std::isfinite(radius) || radius < 0) return out->status = QueryStatus::kNonFinite;
   State& s = *state_;
   const BoundaryDistanceField::Impl& m = field->impl();
-  s.X_point.translation() = q;
+  fcl::BVHModel<fcl::OBBRSSd>& bvh = *m.bvh;
   s.result.clear();
-  fcl::distance(m.bvh.get(), s.X_identity, &s.point, s.X_point, s.request, s.result);
+  s.node.model1 = &bvh;
+  s.node.vertices = bvh.vertices;
+  s.node.tri_indices = bvh.tri_indices;
+  s.node.tf2.translation() = q;
+  s.node.model2_bv.obb.To = q;
+  s.node.model2_bv.rss.To = q;
+  fcl::detail::distance(&s.node, nullptr, 2);
   const intptr_t t = s.result.b1;
   if (t < 0 || static_cast<std::size_t>(t) >= field->mesh().triangles.size()) {
     return out->status = QueryStatus::kFclFailure;
