@@ -92,8 +92,10 @@ AtlasSpec AtlasSpec::Default(const robot::RsrModel& rsr) {
   const Eigen::Vector3d home = rsr.geometry().X_FM_home.translation();
   s.position_grid = {Axis(home.x() - 0.12, home.x() + 0.12, 0.03), Axis(home.y() - 0.12, home.y() + 0.12, 0.03),
                      Axis(home.z() - 0.06, home.z() + 0.06, 0.02)};
-  s.dexterous_resolution_m = 0.004;
-  s.rotational_resolution_rad = DegToRad(2);
+  // Mesh resolution: the nearest-node error of this grid (millimetres, degrees; README "Atlas error") dwarfs the
+  // mesh's own chord error at these spacings, and coarser meshes keep the atlas small and quick to load.
+  s.dexterous_resolution_m = 0.006;
+  s.rotational_resolution_rad = DegToRad(3);
   return s;
 }
 

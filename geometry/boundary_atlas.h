@@ -46,7 +46,8 @@ struct AtlasSpec {
   double rotational_resolution_rad = 0.0349;
 
   // The defaults (assumptions; see README "Atlas defaults"): orientation grid roll, pitch -20..20 deg step 5 deg,
-  // yaw -40..40 deg step 10 deg; positions x, y -120..120 mm step 30 mm, z home-60..home+60 mm step 20 mm.
+  // yaw -40..40 deg step 10 deg, meshes at 6 mm; positions x, y -120..120 mm step 30 mm, z home-60..home+60 mm
+  // step 20 mm, meshes at 3 deg.
   static AtlasSpec Default(const robot::RsrModel& rsr);
   // A small atlas (a few seconds to build) for the test suite and `demo --fast`.
   static AtlasSpec Coarse(const robot::RsrModel& rsr);
