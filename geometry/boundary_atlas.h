@@ -112,7 +112,9 @@ class AtlasPoseQuery {
              double angle_radius_rad, PoseBoundaryResult* out) noexcept;
 
  private:
-  SignedDistanceQuery query_;
+  // One query object per family, so each keeps its own warm start (signed_distance.h).
+  SignedDistanceQuery translation_query_;
+  SignedDistanceQuery rotation_query_;
 };
 
 }  // namespace robossis::geometry

@@ -142,6 +142,10 @@ struct SignedDistanceQuery::State {
   fcl::DistanceRequestd request;
   fcl::DistanceResultd result;
   Node node;
+  // Warm start: the previous query's field and closest triangle. In a haptic loop the point moves little between
+  // ticks, so the distance to the previous closest triangle is a tight upper bound that prunes most of the tree.
+  const BoundaryDistanceField* last_field = nullptr;
+  int last_triangle = -1;
   State() {
     request.enable_nearest_points = false;  // only the closest triangle is needed; its point is recomputed exactly
     request.enable_signed_distance = false;
@@ -176,6 +180,17 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   const BoundaryDistanceField::Impl& m = field->impl();
   fcl::BVHModel<fcl::OBBRSSd>& bvh = *m.bvh;
   s.result.clear();
+  if (s.last_field == field && s.last_triangle >= 0) {
+    // Seed the result with the exact distance to the previous closest triangle: FCL then only visits bounding
+    // volumes that could hold something closer, and the answer is still the global minimum.
+    const Eigen::Vector3i& prev = field->mesh().triangles[static_cast<std::size_t>(s.last_triangle)];
+    const auto& PV = field->mesh().vertices;
+    Feature unused;
+    s.result.min_distance = (q - ClosestPointOnTriangle(q, PV[prev[0]], PV[prev[1]], PV[prev[2]], &unused)).norm();
+    s.result.b1 = s.last_triangle;
+    s.result.o1 = &bvh;
+    s.result.o2 = &s.point;
+  }
   s.node.model1 = &bvh;
   s.node.vertices = bvh.vertices;
   s.node.tri_indices = bvh.tri_indices;
@@ -185,15 +200,18 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   fcl::detail::distance(&s.node, nullptr, 2);
   const intptr_t t = s.result.b1;
   if (t < 0 || static_cast<std::size_t>(t) >= field->mesh().triangles.size()) {
+    s.last_field = nullptr;
     return out->status = QueryStatus::kFclFailure;
   }
+  s.last_field = field;
+  s.last_triangle = static_cast<int>(t);
   const Eigen::Vector3i& tri = field->mesh().triangles[static_cast<std::size_t>(t)];
   const auto& V = field->mesh().vertices;
   Feature feature = Feature::kFace;
   const Eigen::Vector3d c = ClosestPointOnTriangle(q, V[tri[0]], V[tri[1]], V[tri[2]], &feature);
-  Eigen::Vector3d pseudonormal;
+  Eigen::Vector3d pseudonormal = m.face_normal[t];
   switch (feature) {
-    case Feature::kFace: pseudonormal = m.face_normal[t]; break;
+    case Feature::kFace: break;
     case Feature::kEdge01: pseudonormal = m.edge_normal[t][0]; break;
     case Feature::kEdge12: pseudonormal = m.edge_normal[t][1]; break;
     case Feature::kEdge20: pseudonormal = m.edge_normal[t][2]; break;

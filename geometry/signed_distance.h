@@ -88,7 +88,9 @@ class SignedDistanceQuery {
   SignedDistanceQuery& operator=(SignedDistanceQuery&&) noexcept;
 
   // Signed distance of the sphere (centre q, radius >= 0, slice units) against `field` (may be null -> kNoField).
-  // Fills *out and returns out->status. Allocation-free, noexcept.
+  // Fills *out and returns out->status. Allocation-free, noexcept. Consecutive queries against the same field are
+  // warm-started from the previous closest triangle (exact: it only tightens FCL's pruning bound), so a slowly
+  // moving point -- the haptic tick -- is cheaper than a random one. The field must outlive its last query.
   QueryStatus Query(const BoundaryDistanceField* field, const Eigen::Vector3d& q, double radius,
                     SignedDistanceResult* out) noexcept;
 

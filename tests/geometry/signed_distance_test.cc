@@ -62,6 +62,24 @@ TEST(SignedDistanceTest, SignAgreesWithTheSphereOnRandomPoints) {
   EXPECT_EQ(wrong, 0);
 }
 
+TEST(SignedDistanceTest, WarmStartedQueriesEqualColdOnes) {
+  // A reused query object seeds FCL with the previous closest triangle; the answer must not change.
+  const BoundaryDistanceField field(testing::IcoSphere(3, 1.0));
+  SignedDistanceQuery warm;
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  Eigen::Vector3d q(0.5, 0.5, 0.5);
+  for (int n = 0; n < 500; ++n) {
+    q += 0.05 * Eigen::Vector3d(u(gen), u(gen), u(gen));  // a wandering point, like a haptic handle
+    q = q.cwiseMax(-1.5).cwiseMin(1.5);
+    SignedDistanceQuery cold;
+    SignedDistanceResult a, b;
+    warm.Query(&field, q, 0.0, &a);
+    cold.Query(&field, q, 0.0, &b);
+    EXPECT_NEAR(a.signed_distance, b.signed_distance, 1e-12);
+  }
+}
+
 TEST(SignedDistanceTest, BadInputsGiveAStatus) {
   const BoundaryDistanceField field(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
   SignedDistanceQuery query;
