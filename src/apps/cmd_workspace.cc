@@ -71,6 +71,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   struct DexterousOptions {
     std::string rpy = "0,0,0", out;
     double resolution_mm = 2;
+    int error_samples = 0;
   };
   auto dex = std::make_shared<DexterousOptions>();
   CLI::App* d = ws->add_subcommand("dexterous", "RSR dexterous workspace (positions of P in F) at a fixed orientation\n"
@@ -78,15 +79,25 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   d->add_option("--rpy-deg", dex->rpy, "Fixed orientation ROLL_DEG,PITCH_DEG,YAW_DEG")->capture_default_str();
   d->add_option("--resolution-mm", dex->resolution_mm, "Grid spacing (mm)")->capture_default_str();
   d->add_option("--out", dex->out, "Output folder: mesh.stl, mesh.ply (mm), summary.json")->required();
+  d->add_option("--error-samples", dex->error_samples,
+                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
+      ->capture_default_str();
   d->callback([&context, dex] {
     geometry::SliceSpec spec;
     spec.kind = geometry::SliceKind::kRsrDexterous;
     spec.fixed = ParseTriple(dex->rpy, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG", kDegToRad);
     spec.resolution = MmToM(PositiveResolution(dex->resolution_mm, "--resolution-mm"));
     StagedOutputDir out(dex->out);
-    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(context.LoadRsr(), context.LoadSigma7(), spec);
+    const robot::RsrModel rsr = context.LoadRsr();
+    const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
-    out.Write("summary.json", SliceSummaryJson(slice).dump(2) + "\n");
+    json summary = SliceSummaryJson(slice);
+    if (dex->error_samples > 0) {
+      summary["error_vs_reference_mm"] =
+          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, dex->error_samples, 42), kMToMm);
+    }
+    out.Write("summary.json", summary.dump(2) + "\n");
     out.Commit();
     PrintSliceLine(slice);
   });
@@ -95,6 +106,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   struct RotationalOptions {
     std::string position, out;
     double resolution_deg = 1;
+    int error_samples = 0;
   };
   auto rot = std::make_shared<RotationalOptions>();
   CLI::App* r = ws->add_subcommand("rotational", "RSR rotational workspace (roll, pitch, yaw) at a fixed position\n"
@@ -102,6 +114,9 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   r->add_option("--position-mm", rot->position, "Fixed position X_MM,Y_MM,Z_MM of P in F (default: home)");
   r->add_option("--resolution-deg", rot->resolution_deg, "Grid spacing (deg)")->capture_default_str();
   r->add_option("--out", rot->out, "Output folder: mesh.stl, mesh.ply (deg), summary.json")->required();
+  r->add_option("--error-samples", rot->error_samples,
+                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
+      ->capture_default_str();
   r->callback([&context, rot] {
     const robot::RsrModel rsr = context.LoadRsr();
     geometry::SliceSpec spec;
@@ -110,9 +125,15 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                                        : ParseTriple(rot->position, "--position-mm", "X_MM,Y_MM,Z_MM", kMmToM);
     spec.resolution = DegToRad(PositiveResolution(rot->resolution_deg, "--resolution-deg"));
     StagedOutputDir out(rot->out);
-    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, context.LoadSigma7(), spec);
+    const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
-    out.Write("summary.json", SliceSummaryJson(slice).dump(2) + "\n");
+    json summary = SliceSummaryJson(slice);
+    if (rot->error_samples > 0) {
+      summary["error_vs_reference_deg"] =
+          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, rot->error_samples, 42), kRadToDeg);
+    }
+    out.Write("summary.json", summary.dump(2) + "\n");
     out.Commit();
     PrintSliceLine(slice);
   });
