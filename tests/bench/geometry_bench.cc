@@ -1,0 +1,149 @@
+// Workspace slice generation versus resolution, and the signed penetration query (p50/p99) at ~2k and ~20k
+// triangles. Run: ./build/tests/bench/bench_geometry --benchmark_counters_tabular=true
+
+#include <algorithm>
+#include <cmath>
+#include <chrono>
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "geometry/boundary_atlas.h"
+#include "geometry/signed_distance.h"
+#include "geometry/workspace_slice.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+
+namespace {
+
+using namespace robossis;
+using namespace robossis::geometry;
+
+const robot::RsrModel& Rsr() {
+  static const robot::RsrModel model = robot::RsrModel::Default();
+  return model;
+}
+const robot::Sigma7Model& Hc() {
+  static const robot::Sigma7Model model = robot::Sigma7Model::Default();
+  return model;
+}
+
+void SliceCounters(benchmark::State& state, const WorkspaceSlice& s) {
+  state.counters["triangles"] = static_cast<double>(s.stats.triangles);
+  state.counters["grid_s"] = s.seconds_grid;
+  state.counters["mesh_refine_s"] = s.seconds_mesh;
+}
+
+// Argument: resolution in tenths of a mm.
+void BM_DexterousSlice(benchmark::State& state) {
+  const SliceSpec spec{SliceKind::kRsrDexterous, {0, DegToRad(5), DegToRad(10)}, state.range(0) * 1e-4};
+  WorkspaceSlice s;
+  for (auto _ : state) {
+    s = GenerateSlice(Rsr(), Hc(), spec);
+    benchmark::DoNotOptimize(s.stats.volume);
+  }
+  SliceCounters(state, s);
+}
+BENCHMARK(BM_DexterousSlice)->Arg(80)->Arg(40)->Arg(20)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// Argument: resolution in tenths of a degree.
+void BM_RotationalSlice(benchmark::State& state) {
+  const SliceSpec spec{SliceKind::kRsrRotational, {0.03, 0.0, 0.29}, DegToRad(state.range(0) * 0.1)};
+  WorkspaceSlice s;
+  for (auto _ : state) {
+    s = GenerateSlice(Rsr(), Hc(), spec);
+    benchmark::DoNotOptimize(s.stats.volume);
+  }
+  SliceCounters(state, s);
+}
+BENCHMARK(BM_RotationalSlice)->Arg(40)->Arg(20)->Arg(10)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// Query latency percentiles over fixed random points near the boundary (vertex + uniform +/-15 mm) of a dexterous
+// slice whose resolution (tenths of a mm) sets the triangle count.
+void BM_SignedDistanceQuery(benchmark::State& state) {
+  const WorkspaceSlice slice =
+      GenerateSlice(Rsr(), Hc(), {SliceKind::kRsrDexterous, {0, DegToRad(5), DegToRad(10)}, state.range(0) * 1e-4});
+  const BoundaryDistanceField field(slice.mesh);
+  SignedDistanceQuery query;
+  std::mt19937 gen{42};
+  std::uniform_int_distribution<std::size_t> pick(0, slice.mesh.vertices.size() - 1);
+  std::uniform_real_distribution<double> u(-0.015, 0.015);
+  std::vector<Eigen::Vector3d> points(4096);
+  for (auto& p : points) p = slice.mesh.vertices[pick(gen)] + Eigen::Vector3d(u(gen), u(gen), u(gen));
+  std::vector<double> ns;
+  ns.reserve(1 << 20);
+  std::size_t i = 0;
+  SignedDistanceResult r;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    query.Query(&field, points[i++ & 4095], 0.0, &r);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(r.signed_distance);
+    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+  }
+  std::sort(ns.begin(), ns.end());
+  state.counters["triangles"] = static_cast<double>(slice.stats.triangles);
+  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
+  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
+  state.counters["max_us"] = ns.back() * 1e-3;
+}
+BENCHMARK(BM_SignedDistanceQuery)->Arg(130)->Arg(42)->Unit(benchmark::kMicrosecond);
+
+// The same meshes, but the point follows a haptic-like path: a circle of 20 mm radius through the boundary region
+// at 50 mm/s sampled at 1 kHz (50 um per query), so each query is warm-started by the previous one.
+void BM_SignedDistanceQueryCoherent(benchmark::State& state) {
+  const WorkspaceSlice slice =
+      GenerateSlice(Rsr(), Hc(), {SliceKind::kRsrDexterous, {0, DegToRad(5), DegToRad(10)}, state.range(0) * 1e-4});
+  const BoundaryDistanceField field(slice.mesh);
+  SignedDistanceQuery query;
+  // Centre the circle on a boundary vertex so the path crosses the wall.
+  const Eigen::Vector3d centre = slice.mesh.vertices[slice.mesh.vertices.size() / 2];
+  std::vector<Eigen::Vector3d> points(2513);  // 2*pi*20 mm / 50 um
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const double a = 2 * kPi * k / points.size();
+    points[k] = centre + 0.02 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.3 * std::sin(2 * a));
+  }
+  std::vector<double> ns;
+  ns.reserve(1 << 20);
+  std::size_t i = 0;
+  SignedDistanceResult r;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    query.Query(&field, points[i++ % points.size()], 0.0, &r);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(r.signed_distance);
+    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+  }
+  std::sort(ns.begin(), ns.end());
+  state.counters["triangles"] = static_cast<double>(slice.stats.triangles);
+  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
+  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
+  state.counters["max_us"] = ns.back() * 1e-3;
+}
+BENCHMARK(BM_SignedDistanceQueryCoherent)->Arg(130)->Arg(42)->Unit(benchmark::kMicrosecond);
+
+// The pose query the haptic tick calls: nearest-node lookup + translation and rotation queries.
+void BM_AtlasPoseQuery(benchmark::State& state) {
+  static const BoundaryAtlas* atlas = [] {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "robossis_bench_atlas";
+    return new BoundaryAtlas(BuildAtlas(Rsr(), Hc(), AtlasSpec::Coarse(Rsr()), dir));
+  }();
+  AtlasPoseQuery query;
+  PoseBoundaryResult r;
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Isometry3d> poses(1024);
+  for (auto& X : poses) {
+    X = PoseFromPositionRpy(Eigen::Vector3d(0.1 * u(gen), 0.1 * u(gen), 0.284 + 0.06 * u(gen)),
+                            Eigen::Vector3d(DegToRad(15) * u(gen), DegToRad(15) * u(gen), DegToRad(30) * u(gen)));
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    query.Query(*atlas, poses[i++ & 1023], 0.0, 0.0, &r);
+    benchmark::DoNotOptimize(r.translation.signed_distance);
+  }
+}
+BENCHMARK(BM_AtlasPoseQuery)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
