@@ -28,9 +28,10 @@ MuscleTraction::MuscleTraction(const TractionConfig& config, const Eigen::Vector
   R_ref_ = X_FM_aligned.linear();
 }
 
-void MuscleTraction::Calibrate(const Eigen::Isometry3d& X_FM_ref, double load_n, double load_nm, double twist_sign) {
+void MuscleTraction::Calibrate(const Eigen::Isometry3d& X_FM_ref, const Eigen::Matrix3d& R_FM_twist_ref, double load_n,
+                               double load_nm, double twist_sign) {
   if (!(load_n >= 0) || !(load_nm >= 0)) throw std::invalid_argument("traction: loads must be >= 0");
-  R_ref_ = X_FM_ref.linear();
+  R_ref_ = R_FM_twist_ref;
   enabled_lines_ = load_n > 0;
   enabled_twist_ = load_nm > 0;
   // Equal tension T in every line so that the axial sum is load_n: T * sum(n_k · axis) = load_n.

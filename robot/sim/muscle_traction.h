@@ -33,9 +33,12 @@ class MuscleTraction {
   MuscleTraction(const TractionConfig& config, const Eigen::Vector3d& axis_F, const Eigen::Vector3d& site_F,
                  const Eigen::Isometry3d& X_FM_aligned);
 
-  // Sets rest lengths and rest twist (see above). load_n, load_nm >= 0; zero disables that part of the load.
-  // twist_sign: the sense in which the muscles' rest twist lies (the displaced rotation's sign).
-  void Calibrate(const Eigen::Isometry3d& X_FM_ref, double load_n, double load_nm, double twist_sign = 1.0);
+  // Sets the rest lengths so that the lines pull with load_n along the axis at X_FM_lines_ref, and the rest twist so
+  // that the torsional element gives load_nm at orientation R_FM_twist_ref (twist is measured from there).
+  // load_n, load_nm >= 0; zero disables that part of the load. twist_sign: the sense in which the muscles' rest
+  // twist lies from the reference (the displaced rotation's sign). Throws std::invalid_argument on bad values.
+  void Calibrate(const Eigen::Isometry3d& X_FM_lines_ref, const Eigen::Matrix3d& R_FM_twist_ref, double load_n,
+                 double load_nm, double twist_sign = 1.0);
 
   TractionSample Evaluate(const Eigen::Isometry3d& X_FM, const Eigen::Vector3d& v_P_F,
                           const Eigen::Vector3d& w_F) const noexcept;
