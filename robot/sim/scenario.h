@@ -95,10 +95,12 @@ struct ScenarioSummary {
   double mean_rotation_error_deg = 0;
   double max_actuator_force_n = 0;
   double max_actuator_torque_nm = 0;
-  double realtime_factor = 0;
+  double realtime_factor = 0;  // simulated time / CPU time of the stepping thread (Command + Step + State)
   // Beyond the keys:
+  double realtime_factor_wall = 0;  // simulated time / wall-clock time (lower when other processes share the core)
   double simulated_s = 0;
   double wall_s = 0;
+  double cpu_s = 0;
   long steps = 0;
   bool actuator_limit_reached = false;
   long actuator_limit_steps = 0;

@@ -31,6 +31,8 @@ json SimDetailsJson(const sim::ScenarioResult& r, const sim::SimConfig& config) 
   j["steps"] = s.steps;
   j["simulated_s"] = s.simulated_s;
   j["wall_s"] = s.wall_s;
+  j["cpu_s"] = s.cpu_s;
+  j["realtime_factor_wall"] = s.realtime_factor_wall;
   j["actuator_limit_reached"] = s.actuator_limit_reached;
   j["actuator_limit_steps"] = s.actuator_limit_steps;
   j["actuator_limit_message"] = s.actuator_limit_message;
