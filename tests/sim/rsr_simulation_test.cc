@@ -194,6 +194,24 @@ TEST(RsrSimulationTest, FollowerCallsDoNotAllocate) {
   EXPECT_EQ(counter.count(), 0u);
 }
 
+TEST(RsrSimulationTest, StepAllocatesNothingOnceWarmedUp) {
+  // Bullet sizes its buffers in the first steps; after that a loaded hold (traction, no new contact pairs) runs
+  // without touching the heap. New contact pairs may still allocate (Bullet's manifold pool).
+  const MuscleTraction traction = Traction(Distracted(), 517, 74);
+  RsrSimulation sim(Data().model, Data().config, &Data().fragments, &traction, Distracted());
+  robot::RsrJointCommand cmd;
+  cmd.q = robot::CalcInverseKinematics(Data().model, Distracted()).joints.actuated();
+  auto step = [&] {
+    cmd.time_s = sim.time_s() + sim.step_s();
+    sim.Command(cmd);
+    return sim.Step();
+  };
+  for (int k = 0; k < 20; ++k) step();
+  robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 200; ++k) ASSERT_EQ(step(), SimStepStatus::kOk);
+  EXPECT_EQ(counter.count(), 0u);
+}
+
 TEST(RsrSimulationTest, InfeasibleStartPoseIsRejected) {
   Eigen::Isometry3d X = Home();
   X.translation().z() += 0.2;  // legs beyond 354 mm
