@@ -67,13 +67,12 @@ TEST(ScenarioTest, SameRunTwiceGivesTheSameResult) {
 }
 
 TEST(ScenarioTest, ArmGravityWrenchMatchesVirtualWorkOfALiftedRing) {
-  // Gravity along -z and a pure vertical lift dz of the ring: the arms' potential rises by
-  // sum(m_cyl * c/d + m_piston * (d - l)/d)·g·dz... checked against the finite difference of that sum directly.
+  // Reference (closed form): at home the legs are vertical, so with gravity along -z lifting the ring by dz lifts
+  // each rod by dz and no actuator body (it only turns about A_i): W_z = -dV/dz = -3 m_rod g; no x force, no z moment.
   const MassConfig& m = Data().config.masses;
   const Eigen::Vector3d g(0, 0, -9.81);
   const Eigen::Isometry3d X = Data().model.geometry().X_FM_home;
   const Vector6d W = ArmGravityWrench(Data().model, m, g, X);
-  // At home the legs are vertical (d = 284 mm): lifting by dz raises each piston by dz, each cylinder by 0.
   EXPECT_NEAR(W[2], -3 * m.piston_kg * 9.81, 1e-5);
   EXPECT_NEAR(W[0], 0, 1e-6);
   EXPECT_NEAR(W[5], 0, 1e-6);
