@@ -28,5 +28,6 @@ struct DemoContext {
 // The sections, in report order.
 void WriteRobotSection(DemoContext& demo);
 void WriteWorkspaceSection(DemoContext& demo);
+void WriteSimSection(DemoContext& demo);
 
 }  // namespace robossis::apps

@@ -1,0 +1,87 @@
+#pragma once
+// The RSR in Bullet (double precision, Featherstone multibody): fixed ring, three arms (active rotary joint theta_i,
+// passive joint psi_i, prismatic actuator d_i), the spherical joints closing the loop on the moving ring, which
+// carries the distal femur fragment against muscle traction and contact with the fixed proximal fragment.
+//
+// Served through robot::Follower: joint commands in (eq. 13 order), measured joints, ring pose and actuator efforts
+// out. No Bullet type appears in this header: Bullet's raw new/delete objects live in the implementation, wrapped
+// once, and everything is converted to Eigen there.
+//
+// Real-time: Command(), State() and Step() are noexcept and do not throw; Command() and State() never allocate.
+
+#include <memory>
+#include <optional>
+
+#include "robot/follower.h"
+#include "robot/rsr_model.h"
+#include "robot/sim/bone_fragments.h"
+#include "robot/sim/muscle_traction.h"
+#include "robot/sim/sim_config.h"
+
+namespace robossis::sim {
+
+enum class SimStepStatus { kOk, kActuatorLimit, kJointLimit, kUnstable };
+const char* ToString(SimStepStatus status);
+
+// Per-step diagnostics beyond the follower state.
+struct SimDiagnostics {
+  double time_s = 0;
+  TractionSample traction;                 // the wrench the muscles applied this step
+  Eigen::Vector3d v_P_F = Eigen::Vector3d::Zero();  // measured ring velocity (at P) and angular velocity, in F
+  Eigen::Vector3d w_F = Eigen::Vector3d::Zero();
+  bool linear_saturated[3] = {false, false, false};   // the drive hit its force limit this step
+  bool rotary_saturated[3] = {false, false, false};   // the drive hit its torque limit this step
+  bool joint_limit_active = false;         // a stroke or rotary end stop carried load this step
+  double max_penetration_m = 0;            // deepest fragment interpenetration this step (0 if apart)
+  int contact_points = 0;
+  double max_loop_error_m = 0;             // largest gap at the three spherical joints (loop closure)
+  double max_cone_rad = 0;                 // largest spherical-joint cone angle (limit: model limits)
+};
+
+struct SimOptions {
+  bool with_bone = true;             // fragments (mass on the ring, contact) present
+  bool with_traction = true;         // muscle elements applied
+  bool gravity = true;               // config.physics.gravity_mps2, else none
+};
+
+class RsrSimulation final : public robot::Follower {
+ public:
+  // Builds the mechanism at X_FM_start (must be feasible), at rest, with the drives holding it there.
+  // `traction` is copied (already calibrated); pass nullptr for none. Throws std::invalid_argument on an infeasible
+  // start pose and std::runtime_error if the Bullet model does not reproduce the kinematics.
+  RsrSimulation(const robot::RsrModel& model, const SimConfig& config, const BoneFragments* fragments,
+                const MuscleTraction* traction, const Eigen::Isometry3d& X_FM_start, const SimOptions& options = {});
+  ~RsrSimulation() override;
+  RsrSimulation(const RsrSimulation&) = delete;
+  RsrSimulation& operator=(const RsrSimulation&) = delete;
+
+  // robot::Follower. The command is extrapolated with its velocity to the end of each step (at most
+  // config.physics.command_extrapolation_max_s past its time stamp).
+  void Command(const robot::RsrJointCommand& command) noexcept override;
+  robot::RsrFollowerState State() const noexcept override;
+
+  // Advances the physics by one step of 1/step_hz.
+  SimStepStatus Step() noexcept;
+
+  const SimDiagnostics& diagnostics() const { return diagnostics_; }
+  double time_s() const { return time_s_; }
+  double step_s() const { return step_s_; }
+  double ring_mass_kg() const;  // ring + distal fragment
+  Eigen::Vector3d ring_com_M() const;  // its centre of mass, in M
+
+ private:
+  struct Bullet;  // every Bullet object, owned (RAII)
+  std::unique_ptr<Bullet> bullet_;
+  robot::RsrModel model_;
+  SimConfig config_;
+  SimOptions options_;
+  std::optional<MuscleTraction> traction_;
+  double step_s_ = 1e-3;
+  double time_s_ = 0;
+  robot::RsrJointCommand command_;
+  robot::RsrFollowerState state_;
+  SimDiagnostics diagnostics_;
+  void Measure() noexcept;
+};
+
+}  // namespace robossis::sim
