@@ -88,6 +88,10 @@ RigidBodyTrack ReadRigidBodyTrack(MotiveReader& reader, const std::string& name)
   std::vector<std::vector<std::uint8_t>> marker_seen;
   MotiveRow row;
   std::int64_t previous = -1;
+  const bool quaternion_file = reader.header().rotation_type == MotiveRotationType::kQuaternion;
+  Eigen::Vector4d previous_q = Eigen::Vector4d::Zero();
+  bool have_previous_q = false;
+  int file_sign_flips = 0;
   while (reader.ReadFrame(row)) {
     if (previous >= 0 && row.frame > previous + 1) ++track.frame_jumps;
     previous = row.frame;
@@ -99,7 +103,17 @@ RigidBodyTrack ReadRigidBodyTrack(MotiveReader& reader, const std::string& name)
     if (rb >= 0) {
       const int error_col = layout.rigid_bodies[rb].mean_marker_error;
       track.mean_marker_error_m.push_back(row.Length(error_col));
-      if (const std::optional<Eigen::Isometry3d> X = reader.RigidBodyPose(row, rb)) AppendPose(track, *X);
+      if (const std::optional<Eigen::Isometry3d> X = reader.RigidBodyPose(row, rb)) {
+        AppendPose(track, *X);
+        if (quaternion_file) {  // count sign changes of the file's own quaternions (the pose matrix hides them)
+          const MotiveRigidBodyColumns& c = layout.rigid_bodies[rb];
+          const Eigen::Vector4d q(row.Number(c.rotation[0]), row.Number(c.rotation[1]), row.Number(c.rotation[2]),
+                                  row.Number(c.rotation[3]));
+          if (have_previous_q && q.dot(previous_q) < 0) ++file_sign_flips;
+          previous_q = q;
+          have_previous_q = true;
+        }
+      }
     } else {
       track.mean_marker_error_m.push_back(kMissing);
       marker_positions.emplace_back(markers.size(), Eigen::Vector3d::Zero());
@@ -113,6 +127,7 @@ RigidBodyTrack ReadRigidBodyTrack(MotiveReader& reader, const std::string& name)
     }
   }
   if (track.size() == 0) throw std::runtime_error(reader.source_name() + ": no data rows after the header");
+  if (rb >= 0 && quaternion_file) track.quaternion_sign_flips = file_sign_flips;
   if (rb < 0) {
     // Body frame: origin at the markers' centroid in the first complete frame, axes parallel to the tracker's.
     std::size_t ref = track.size();

@@ -144,7 +144,7 @@ SyntheticRecording WriteSyntheticMotiveCsv(const PoseTrajectory& trajectory, con
     const Eigen::Vector3d dw = NoiseVector(gen, o.rotation_noise_bound_rad);
     X_TB.linear() = RotationFromVector(dw) * X_TB.linear();
     Eigen::Quaterniond qb(X_TB.linear());
-    if (qb.w() > 0 && (frame % 97) == 0) qb.coeffs() = -qb.coeffs();  // Motive's sign is arbitrary: exercise it
+    if (frame % 97 == 0) qb.coeffs() = -qb.coeffs();  // Motive's sign is arbitrary: exercise it
     if (quaternion) {
       std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%.6f", qb.x(), qb.y(), qb.z(), qb.w());
     } else {

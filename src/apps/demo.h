@@ -27,5 +27,6 @@ struct DemoContext {
 
 // The sections, in report order.
 void WriteRobotSection(DemoContext& demo);
+void WriteTrackingSection(DemoContext& demo);  // ## 6. Tracking accuracy (calibration/)
 
 }  // namespace robossis::apps

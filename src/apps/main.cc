@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   apps::RegisterRobotCommands(app, context);
   apps::RegisterHcCommands(app, context);
   apps::RegisterDemoCommand(app, context);
+  apps::RegisterMocapCommands(app, context);
+  apps::RegisterTrackEvalCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
