@@ -18,19 +18,23 @@ struct Signal {
 };
 
 Signal SpeedSignal(const PoseTrajectory& x, double dt) {
+  // Mean speeds over bins of width dt: each step between native samples adds its path length (and rotation angle)
+  // to the bin holding its midpoint. Averaging, not point sampling, so a coarse grid does not alias fast motion.
   Signal s;
   s.t0 = x.t_s.front();
   s.dt = dt;
   const std::size_t n = static_cast<std::size_t>(std::floor(x.duration_s() / dt));
-  std::vector<double> lin(n), ang(n);
-  Eigen::Vector3d p0, p1;
-  Eigen::Quaterniond q0, q1;
+  std::vector<double> lin(n, 0.0), ang(n, 0.0);
+  for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+    const double mid = 0.5 * (x.t_s[i] + x.t_s[i + 1]);
+    const std::size_t k = static_cast<std::size_t>((mid - s.t0) / dt);
+    if (k >= n) continue;
+    lin[k] += (x.p[i + 1] - x.p[i]).norm();
+    ang[k] += x.q[i].angularDistance(x.q[i + 1]);
+  }
   for (std::size_t k = 0; k < n; ++k) {
-    const double t = s.t0 + static_cast<double>(k) * dt;
-    InterpolatePose(x, t, p0, q0);
-    InterpolatePose(x, std::min(t + dt, x.t_s.back()), p1, q1);
-    lin[k] = (p1 - p0).norm() / dt;
-    ang[k] = q0.angularDistance(q1) / dt;
+    lin[k] /= dt;
+    ang[k] /= dt;
   }
   auto standardize = [](std::vector<double>& v) {
     double mean = 0, sq = 0;
@@ -85,44 +89,82 @@ SpeedCorrelationResult EstimateOffsetBySpeedCorrelation(const PoseTrajectory& re
   const double shorter = std::min(reference.duration_s(), tracked.duration_s());
   const double min_overlap = options.min_overlap_fraction * shorter;
   // offset range: t_ref = t_mocap + offset, with enough overlap.
-  const double lo = reference.t_s.front() - tracked.t_s.back() + min_overlap;
-  const double hi = reference.t_s.back() - tracked.t_s.front() - min_overlap;
+  double lo = reference.t_s.front() - tracked.t_s.back() + min_overlap;
+  double hi = reference.t_s.back() - tracked.t_s.front() - min_overlap;
+  if (options.bounded) {
+    lo = std::max(lo, options.center_s - options.half_width_s);
+    hi = std::min(hi, options.center_s + options.half_width_s);
+  }
   if (!(hi >= lo)) throw std::runtime_error("time alignment: the recordings are too short to overlap");
-  // Coarse-to-fine: ~2000 candidate offsets at the first level, then ±20 steps around the best at each finer one.
-  double step = std::max((hi - lo) / 2000.0, options.finest_step_s);
-  double best = 0.5 * (lo + hi), best_c = -3;
-  double a = lo, b = hi;
-  for (int level = 0; level < 12; ++level) {
-    // Signals sampled at the step (bounded to 200k samples), so their features match the search resolution.
-    const double dt = std::max({step, shorter / 200000.0, 1e-4});
+  // Coarse-to-fine. Each level bins the speeds at dt and tries offsets every dt/4 (a peak can fall between
+  // bins); the next level bins 10× finer around the best offset. Bins are never finer than twice the coarser
+  // recording's mean sample interval (a bin must hold a sample step); the last level's parabolic peak gives the
+  // sub-step offset, and the clock refinement after registration does the rest.
+  const double native_dt = std::max(reference.duration_s() / static_cast<double>(reference.size() - 1),
+                                    tracked.duration_s() / static_cast<double>(tracked.size() - 1));
+  const double finest_dt = std::max({2.0 * native_dt, shorter / 200000.0, 1e-4});
+  // One level: offsets in [a, b] every dt/4 on speeds binned at dt; returns all candidates.
+  auto scan = [&](double dt, double a, double b, std::vector<double>& offs, std::vector<double>& cs) {
+    offs.clear();
+    cs.clear();
     const Signal sr = SpeedSignal(reference, dt);
     const Signal st = SpeedSignal(tracked, dt);
-    if (sr.v.size() < 8 || st.v.size() < 8) break;
-    double prev_c = -3;
-    std::vector<double> cs;
-    std::vector<double> offs;
+    if (sr.v.size() < 8 || st.v.size() < 8) return false;
+    const double step = std::max(dt / 4.0, options.finest_step_s);
     for (double off = a; off <= b + 1e-12; off += step) {
-      const double c = Correlation(sr, st, off, min_overlap);
       offs.push_back(off);
-      cs.push_back(c);
-      (void)prev_c;
+      cs.push_back(Correlation(sr, st, off, min_overlap));
     }
-    std::size_t k = 0;
-    for (std::size_t i = 1; i < cs.size(); ++i) {
-      if (cs[i] > cs[k]) k = i;
-    }
-    if (cs.empty() || cs[k] <= -2) throw std::runtime_error("time alignment: no overlapping motion to correlate");
-    best = offs[k];
-    best_c = cs[k];
+    return !cs.empty();
+  };
+  auto peak = [](const std::vector<double>& offs, const std::vector<double>& cs, std::size_t k) {
+    double best = offs[k];
     if (k > 0 && k + 1 < cs.size()) {  // parabolic peak
       const double d = cs[k - 1] - 2 * cs[k] + cs[k + 1];
-      if (d < 0) best += 0.5 * step * (cs[k - 1] - cs[k + 1]) / d;
+      if (d < 0) best += 0.5 * (offs[1] - offs[0]) * (cs[k - 1] - cs[k + 1]) / d;
     }
-    if (step <= options.finest_step_s * 1.0001) break;
-    const double next = std::max(step / 10.0, options.finest_step_s);
-    a = best - 20 * next;
-    b = best + 20 * next;
-    step = next;
+    return best;
+  };
+  const double dt0 = std::max((hi - lo) / 2000.0, finest_dt);
+  std::vector<double> offs, cs;
+  if (!scan(dt0, lo, hi, offs, cs)) throw std::runtime_error("time alignment: the recordings are too short");
+  // The five highest local maxima of the coarse scan are refined: with coarse bins the true peak may rank below
+  // a near-repeat of the motion.
+  std::vector<std::size_t> maxima;
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    const bool left = i == 0 || cs[i] >= cs[i - 1], right = i + 1 == cs.size() || cs[i] >= cs[i + 1];
+    if (left && right && cs[i] > -2) maxima.push_back(i);
+  }
+  if (maxima.empty()) throw std::runtime_error("time alignment: no overlapping motion to correlate");
+  std::sort(maxima.begin(), maxima.end(), [&](std::size_t x, std::size_t y) { return cs[x] > cs[y]; });
+  maxima.resize(std::min<std::size_t>(maxima.size(), 5));
+  // Each candidate is refined one level; the best of them is refined down to the finest bins.
+  auto refine = [&](double candidate, double dt, double& c_out) {
+    const double next = std::max(dt / 10.0, finest_dt);
+    std::vector<double> o2, c2;
+    if (!scan(next, candidate - 2 * dt, candidate + 2 * dt, o2, c2)) return candidate;
+    const std::size_t k = static_cast<std::size_t>(std::max_element(c2.begin(), c2.end()) - c2.begin());
+    if (c2[k] <= -2) return candidate;
+    c_out = c2[k];
+    return peak(o2, c2, k);
+  };
+  double best = peak(offs, cs, maxima[0]), best_c = cs[maxima[0]];
+  double dt = dt0;
+  if (dt0 > finest_dt * 1.0001) {
+    best_c = -3;
+    for (std::size_t m : maxima) {
+      double c = cs[m];
+      const double candidate = refine(peak(offs, cs, m), dt0, c);
+      if (c > best_c) {
+        best = candidate;
+        best_c = c;
+      }
+    }
+    dt = std::max(dt0 / 10.0, finest_dt);
+  }
+  while (dt > finest_dt * 1.0001) {
+    best = refine(best, dt, best_c);
+    dt = std::max(dt / 10.0, finest_dt);
   }
   if (!(best_c > 0.2)) {
     throw std::runtime_error("time alignment: the speed profiles do not match (best correlation " +

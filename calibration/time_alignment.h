@@ -16,6 +16,10 @@ struct SpeedCorrelationOptions {
   double min_overlap_fraction = 0.5;
   // The finest grid of the search (s). The result is refined to sub-sample precision by a parabola.
   double finest_step_s = 0.001;
+  // Search only offsets within center_s ± half_width_s (a known approximate offset; needed when the motion
+  // repeats itself, which makes the speed profiles match at several offsets).
+  bool bounded = false;
+  double center_s = 0, half_width_s = 2.0;
 };
 
 struct SpeedCorrelationResult {

@@ -48,11 +48,11 @@ struct Pairs {
 
 // Pairs every usable tracked frame with the reference interpolated at its aligned time.
 Pairs MakePairs(const RigidBodyTrack& track, const PoseTrajectory& reference, const ClockModel& clock,
-                const std::vector<std::uint8_t>& excluded, ExclusionCounts* counts) {
+                const std::vector<std::uint8_t>& excluded, ExclusionCounts* counts, std::size_t stride = 1) {
   Pairs pairs;
   Eigen::Vector3d p;
   Eigen::Quaterniond q;
-  for (std::size_t i = 0; i < track.size(); ++i) {
+  for (std::size_t i = 0; i < track.size(); i += stride) {
     if (!track.present[i]) {
       if (counts) ++counts->missing;
       continue;
@@ -188,24 +188,23 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
                              " frames; at least 10 are needed");
   }
   ClockModel clock;
-  if (options.offset_given) {
-    clock.offset_s = options.offset_s;
-  } else {
-    const SpeedCorrelationResult c = EstimateOffsetBySpeedCorrelation(reference, tracked, options.correlation);
+  {
+    SpeedCorrelationOptions correlation = options.correlation;
+    if (options.offset_given) {
+      correlation.bounded = true;
+      correlation.center_s = options.offset_s;
+      correlation.half_width_s = options.offset_window_s;
+    }
+    const SpeedCorrelationResult c = EstimateOffsetBySpeedCorrelation(reference, tracked, correlation);
     clock.offset_s = c.offset_s;
     result.speed_correlation = c.correlation;
   }
   std::vector<std::uint8_t> excluded(track.size(), 0);
+  // The alternation works on an evenly strided subset (≤ 20,000 frames) so long takes stay cheap; flips are then
+  // detected and the final registration and errors computed on every frame.
+  const std::size_t stride = std::max<std::size_t>(1, track.size() / 20000);
   HandEyeResult reg;
-  for (int round = 0; round < std::max(1, options.alternations); ++round) {
-    const Pairs pairs = MakePairs(track, reference, clock, excluded, nullptr);
-    if (pairs.index.size() < 10) {
-      throw std::runtime_error("only " + std::to_string(pairs.index.size()) +
-                               " tracked frames fall inside the command log's time span after alignment; is this the "
-                               "right command log?");
-    }
-    reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
-    // Orientation flips: frames far from the registered command.
+  auto flag_flips = [&](const Pairs& pairs) {
     bool changed = false;
     for (std::size_t k = 0; k < pairs.index.size(); ++k) {
       const Eigen::Isometry3d X = RingPoseFromTracked(reg, pairs.X_TB[k]);
@@ -214,15 +213,29 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
         changed = true;
       }
     }
-    if (changed) reg = CalibrateTrackerToBase(MakePairs(track, reference, clock, excluded, nullptr).X_FM,
-                                              MakePairs(track, reference, clock, excluded, nullptr).X_TB,
-                                              options.hand_eye);
+    return changed;
+  };
+  for (int round = 0; round < std::max(1, options.alternations); ++round) {
+    Pairs pairs = MakePairs(track, reference, clock, excluded, nullptr, stride);
+    if (pairs.index.size() < 10) {
+      throw std::runtime_error("only " + std::to_string(pairs.index.size()) +
+                               " tracked frames fall inside the command log's time span after alignment; is this the "
+                               "right command log?");
+    }
+    reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
+    if (flag_flips(pairs)) {
+      pairs = MakePairs(track, reference, clock, excluded, nullptr, stride);
+      if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after excluding orientation flips");
+      reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
+    }
     clock = RefineClock(track, reference, reg, clock, options.estimate_drift,
                         options.hand_eye.rotation_weight_m_per_rad, excluded);
   }
+  flag_flips(MakePairs(track, reference, clock, excluded, nullptr));  // on every frame, before the final fit
   const Pairs pairs = MakePairs(track, reference, clock, excluded, &result.excluded);
   if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after alignment");
   reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
+
   result.clock = clock;
   result.registration = reg;
   std::vector<double> et, er, eta[3], era[3];

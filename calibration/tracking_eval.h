@@ -27,9 +27,11 @@ struct TrackingEvalOptions {
   // A frame whose orientation differs from the registered command by more than this is a marker-labelling flip
   // and is excluded. Assumption: 10°, two orders of magnitude above the paper's 0.07° mean error.
   double flip_threshold_rad = 0.174533;
-  // If set, the clock offset is not searched but fixed to this value (s) as the starting point.
+  // If set, the clock offset is searched only within offset_s ± offset_window_s (an approximate offset known from
+  // the set-up; needed when the motion repeats itself and the speed profiles match at several offsets).
   bool offset_given = false;
   double offset_s = 0;
+  double offset_window_s = 2.0;
   HandEyeOptions hand_eye;
   SpeedCorrelationOptions correlation;
   int alternations = 3;  // registration ↔ clock refinement rounds

@@ -28,9 +28,12 @@ def main():
     v = d[::step]
     t = v["t_s"] - v["t_s"][0]
     fig, ax = plt.subplots(3, 2, figsize=(13, 10), gridspec_kw={"height_ratios": [2, 1.2, 1.4]})
+    z0 = round(float(np.mean(v["ref_z_mm"])))  # z sits far from x, y (the ring's height): plot it about its mean
     for name, c in zip(("x", "y", "z"), ("C0", "C1", "C2")):
-        ax[0, 0].plot(t, v["trk_%s_mm" % name], color=c, lw=1.2, label="%s tracked" % name)
-        ax[0, 0].plot(t, v["ref_%s_mm" % name], color="k", lw=0.8, ls="--")
+        off = z0 if name == "z" else 0
+        label = "z - %d tracked" % z0 if name == "z" else "%s tracked" % name
+        ax[0, 0].plot(t, v["trk_%s_mm" % name] - off, color=c, lw=1.2, label=label)
+        ax[0, 0].plot(t, v["ref_%s_mm" % name] - off, color="k", lw=0.8, ls="--")
     ax[0, 0].set_ylabel("position (mm)")
     ax[0, 0].set_title("Translation: tracked (colour) vs commanded (dashed)")
     ax[0, 0].legend(fontsize=8, ncol=3)

@@ -124,7 +124,7 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
   struct Options {
     std::string mocap, rigid_body, reference, out;
     bool json = false, no_drift = false, no_plot = false;
-    double offset_s = 0;
+    double offset_s = 0, offset_window_s = 2.0;
     double flip_threshold_deg = 10;
   };
   auto o = std::make_shared<Options>();
@@ -141,8 +141,10 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
   cmd->add_option("--out", o->out, "Output folder (written atomically: complete or untouched)")->required();
   cmd->add_flag("--json", o->json, "Print summary.json to stdout");
   auto offset_opt = cmd->add_option("--offset-s", o->offset_s,
-                                    "Start from this clock offset (t_reference = t_mocap + offset) instead of "
-                                    "searching it by speed correlation");
+                                    "Approximate clock offset (t_reference = t_mocap + offset): search only within "
+                                    "±--offset-window-s of it (for motions that repeat themselves)");
+  cmd->add_option("--offset-window-s", o->offset_window_s, "Half-width of the search around --offset-s")
+      ->capture_default_str();
   cmd->add_flag("--no-drift", o->no_drift, "Estimate the clock offset only, not the drift");
   cmd->add_option("--flip-threshold-deg", o->flip_threshold_deg,
                   "Frames whose orientation error exceeds this are excluded as orientation flips")
@@ -159,6 +161,8 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
     if (offset_opt->count() > 0) {
       options.offset_given = true;
       options.offset_s = o->offset_s;
+      options.offset_window_s = o->offset_window_s;
+      if (!(o->offset_window_s > 0)) throw std::invalid_argument("--offset-window-s: expected a positive duration");
     }
     const calibration::TrackingEvalResult result = calibration::EvaluateTracking(track, reference, options);
     StagedOutputDir out(o->out);
