@@ -155,11 +155,13 @@ bool MotiveReader::NextLine(std::string& line) {
   if (from_memory_) {
     if (memory_pos_ >= memory_.size()) return false;
     std::size_t end = memory_.find('\n', memory_pos_);
+    line_unterminated_ = end == std::string::npos;
     if (end == std::string::npos) end = memory_.size();
     line.assign(memory_, memory_pos_, end - memory_pos_);
     memory_pos_ = end + 1;
   } else {
     if (!std::getline(file_, line)) return false;
+    line_unterminated_ = file_.eof();
   }
   ++line_number_;
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -387,8 +389,14 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
   }
   previous_frame_ = row.frame;
   row.time_s = static_cast<double>(row.frame) / header_.export_rate_hz;
-  // A row cut short by truncation: fewer fields than the header announced, with data in the last one.
+  // A row cut short by truncation: fewer fields than the header announced, at the unterminated end of the file
+  // (Motive writes every cell of every row, and ends each row with a newline).
   const int nfields = static_cast<int>(row.fields_.size());
+  if (nfields < layout_.num_columns && line_unterminated_) {
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the last row has " +
+                             std::to_string(nfields) + " of " + std::to_string(layout_.num_columns) +
+                             " cells and no line end: the file is truncated");
+  }
   if (nfields < layout_.num_columns && nfields > 2 && !Trim(row.fields_.back()).empty()) {
     // Motive itself writes every column; a short row with a value at its end is a truncated file.
     double v = 0;

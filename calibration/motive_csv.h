@@ -125,6 +125,7 @@ class MotiveReader {
   std::size_t memory_pos_ = 0;
   bool from_memory_ = false;
   std::size_t line_number_ = 0;
+  bool line_unterminated_ = false;  // the last line read had no newline (end of a possibly truncated file)
   MotiveHeader header_;
   MotiveLayout layout_;
   std::int64_t previous_frame_ = std::numeric_limits<std::int64_t>::min();

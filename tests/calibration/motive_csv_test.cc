@@ -121,6 +121,13 @@ TEST(MotiveCsvTest, RejectsTruncatedRowMidNumber) {
   EXPECT_THAT(Error(cut), HasSubstr("truncated"));
 }
 
+TEST(MotiveCsvTest, RejectsFileCutInsideTheLastRow) {
+  const std::string text = ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv"));
+  const std::size_t row = text.find("\n3,0.025000");
+  EXPECT_THAT(Error(text.substr(0, row + 60)), HasSubstr("the file is truncated"));
+  EXPECT_EQ(Error(text.substr(0, row + 1)), "");  // cut at a line end: a shorter take, not an error
+}
+
 TEST(MotiveCsvTest, RejectsNonIncreasingFrames) {
   const std::string text = ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv"));
   const std::size_t row = text.find("\n3,0.025000");
