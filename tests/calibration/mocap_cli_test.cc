@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -101,6 +102,11 @@ TEST(MocapCliTest, TrackEvalBadInputsLeaveNoOutput) {
   { std::ofstream(dir / "garbage.csv") << "not,a,motive,file\n"; }
   { std::ofstream(dir / "legacy.csv") << "Format Version,1.1\n"; }
   const std::string real = Data("timeanddoctor_parse_optitrack_csv_test.csv");
+  {
+    std::ifstream in(real, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / "truncated.csv", std::ios::binary) << text.substr(0, text.find("\n300,") + 100);
+  }
   struct Case {
     std::string args, expected;
   };
@@ -110,6 +116,7 @@ TEST(MocapCliTest, TrackEvalBadInputsLeaveNoOutput) {
       {"--mocap " + (dir / "legacy.csv").string() + " --rigid-body A", "legacy format 1.1"},
       {"--mocap " + Data("ha5dzs_optitrack-motive-file-converter_test_default.csv") + " --rigid-body A", "no assets"},
       {"--mocap " + (dir / "missing.csv").string() + " --rigid-body A", "cannot open"},
+      {"--mocap " + (dir / "truncated.csv").string() + " --rigid-body ernesto_body", "truncated"},
   };
   for (const Case& c : cases) {
     const CommandRun run =
