@@ -29,5 +29,6 @@ struct DemoContext {
 void WriteRobotSection(DemoContext& demo);
 void WriteWorkspaceSection(DemoContext& demo);
 void WriteSimSection(DemoContext& demo);
+void WriteTrackingSection(DemoContext& demo);  // ## 6. Tracking accuracy (calibration/)
 
 }  // namespace robossis::apps

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   apps::RegisterDemoCommand(app, context);
   apps::RegisterWorkspaceCommands(app, context);
   apps::RegisterSimCommands(app, context);
+  apps::RegisterMocapCommands(app, context);
+  apps::RegisterTrackEvalCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,451 @@
+#include "calibration/motive_csv.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "src/core/units.h"
+
+namespace robossis::calibration {
+
+namespace {
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '"' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::string Lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+  return out;
+}
+
+bool ParseDouble(std::string_view s, double& value) {
+  s = Trim(s);
+  if (s.empty()) return false;
+  if (s.front() == '+') s.remove_prefix(1);
+  const char* end = s.data() + s.size();
+  const auto result = std::from_chars(s.data(), end, value);
+  return result.ec == std::errc() && result.ptr == end && std::isfinite(value);
+}
+
+bool AllEmpty(const std::vector<std::string_view>& fields) {
+  return std::all_of(fields.begin(), fields.end(), [](std::string_view f) { return Trim(f).empty(); });
+}
+
+struct AxisMap {
+  static int Index(std::string_view axis) {
+    const std::string a = Lower(Trim(axis));
+    if (a == "x") return 0;
+    if (a == "y") return 1;
+    if (a == "z") return 2;
+    if (a == "w") return 3;
+    return -1;
+  }
+};
+
+constexpr std::array<std::pair<std::string_view, MotiveRotationType>, 7> kRotationTypes = {{
+    {"Quaternion", MotiveRotationType::kQuaternion},
+    {"XYZ", MotiveRotationType::kXYZ},
+    {"XZY", MotiveRotationType::kXZY},
+    {"YXZ", MotiveRotationType::kYXZ},
+    {"YZX", MotiveRotationType::kYZX},
+    {"ZXY", MotiveRotationType::kZXY},
+    {"ZYX", MotiveRotationType::kZYX},
+}};
+
+// The three axis indices of an Euler order, e.g. XYZ → {0, 1, 2}.
+std::array<int, 3> EulerAxes(MotiveRotationType type) {
+  switch (type) {
+    case MotiveRotationType::kXYZ: return {0, 1, 2};
+    case MotiveRotationType::kXZY: return {0, 2, 1};
+    case MotiveRotationType::kYXZ: return {1, 0, 2};
+    case MotiveRotationType::kYZX: return {1, 2, 0};
+    case MotiveRotationType::kZXY: return {2, 0, 1};
+    case MotiveRotationType::kZYX: return {2, 1, 0};
+    case MotiveRotationType::kQuaternion: break;
+  }
+  throw std::invalid_argument("RotationFromMotiveEuler: not an Euler rotation type");
+}
+
+}  // namespace
+
+std::string_view RotationTypeName(MotiveRotationType type) {
+  for (const auto& [name, t] : kRotationTypes) {
+    if (t == type) return name;
+  }
+  return "?";
+}
+
+Eigen::Matrix3d RotationFromMotiveEuler(MotiveRotationType type, const Eigen::Vector3d& xyz_rad) {
+  const std::array<int, 3> axes = EulerAxes(type);
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    R = R * Eigen::AngleAxisd(xyz_rad[axes[k]], Eigen::Vector3d::Unit(axes[k])).toRotationMatrix();
+  }
+  return R;
+}
+
+Eigen::Vector3d MotiveEulerFromRotation(MotiveRotationType type, const Eigen::Matrix3d& R) {
+  const std::array<int, 3> axes = EulerAxes(type);
+  // Eigen's eulerAngles(a0, a1, a2) returns angles with R = R_a0 · R_a1 · R_a2 (intrinsic), a0 in [0, pi].
+  const Eigen::Vector3d angles = R.eulerAngles(axes[0], axes[1], axes[2]);
+  Eigen::Vector3d xyz;
+  for (int k = 0; k < 3; ++k) xyz[axes[k]] = std::remainder(angles[k], 2 * kPi);
+  return xyz;
+}
+
+int MotiveLayout::FindRigidBody(std::string_view name) const {
+  for (std::size_t i = 0; i < rigid_bodies.size(); ++i) {
+    if (rigid_bodies[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string MotiveLayout::RigidBodyNames() const {
+  std::string names;
+  for (const auto& rb : rigid_bodies) names += (names.empty() ? "'" : ", '") + rb.name + "'";
+  return names.empty() ? "(none)" : names;
+}
+
+double MotiveRow::Number(int column) const {
+  if (column < 0 || column >= static_cast<int>(fields_.size())) return kMissing;
+  double value = 0;
+  return ParseDouble(fields_[column], value) ? value : kMissing;
+}
+
+bool MotiveRow::Empty(int column) const {
+  return column < 0 || column >= static_cast<int>(fields_.size()) || Trim(fields_[column]).empty();
+}
+
+void SplitCsvLine(std::string_view line, std::vector<std::string_view>& fields) {
+  fields.clear();
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  std::size_t start = 0;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.push_back(line.substr(start, i - start));
+      start = i + 1;
+    }
+  }
+  fields.push_back(line.substr(start));
+}
+
+MotiveReader::MotiveReader(const std::filesystem::path& path) : source_name_(path.string()) {
+  file_.open(path, std::ios::binary);
+  if (!file_) throw std::runtime_error(source_name_ + ": cannot open the file");
+  ParseHeader();
+}
+
+MotiveReader::MotiveReader(std::string text, std::string source_name)
+    : source_name_(std::move(source_name)), memory_(std::move(text)), from_memory_(true) {
+  ParseHeader();
+}
+
+bool MotiveReader::NextLine(std::string& line) {
+  if (from_memory_) {
+    if (memory_pos_ >= memory_.size()) return false;
+    std::size_t end = memory_.find('\n', memory_pos_);
+    line_unterminated_ = end == std::string::npos;
+    if (end == std::string::npos) end = memory_.size();
+    line.assign(memory_, memory_pos_, end - memory_pos_);
+    memory_pos_ = end + 1;
+  } else {
+    if (!std::getline(file_, line)) return false;
+    line_unterminated_ = file_.eof();
+  }
+  ++line_number_;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line_number_ == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 byte-order mark
+  return true;
+}
+
+void MotiveReader::ParseHeader() {
+  const std::string& src = source_name_;
+  auto where = [&](std::size_t line) { return src + " line " + std::to_string(line) + ": "; };
+  std::string line;
+  std::vector<std::string_view> fields;
+  if (!NextLine(line)) throw std::runtime_error(src + ": the file is empty; expected a Motive CSV export");
+  SplitCsvLine(line, fields);
+  if (fields.size() >= 2 && Lower(Trim(fields[0])) == "format version") {
+    // key/value pairs
+  } else if (line.find("Motive") != std::string::npos || line.rfind("comment", 0) == 0 ||
+             line.rfind("info", 0) == 0) {
+    throw std::runtime_error(where(1) + "this is a legacy Motive/Arena CSV (format 1.1 or older, row-typed layout); "
+                             "re-export the take from Motive with CSV format 1.2x (Motive 1.7 or newer)");
+  } else {
+    throw std::runtime_error(where(1) + "expected 'Format Version,1.2x,...' (an OptiTrack Motive CSV export), got '" +
+                             line.substr(0, 60) + "'");
+  }
+  std::map<std::string, std::string> meta;
+  for (std::size_t i = 0; i + 1 < fields.size(); i += 2) {
+    const std::string key(Trim(fields[i]));
+    if (!key.empty()) meta[Lower(key)] = std::string(Trim(fields[i + 1]));
+  }
+  header_.format_version = meta["format version"];
+  double version = 0;
+  if (!ParseDouble(header_.format_version, version)) {
+    throw std::runtime_error(where(1) + "'Format Version' is '" + header_.format_version + "'; expected a number such as 1.23");
+  }
+  if (version < 1.195) {
+    throw std::runtime_error(where(1) + "'Format Version' is " + header_.format_version +
+                             ": legacy format 1.1 and older use a different row-typed layout and are not supported; "
+                             "re-export the take with CSV format 1.2x");
+  }
+  if (version >= 1.26) {
+    // Unknown newer 1.x/2.x versions: the header layout is the same family; read on but the caller may warn.
+  }
+  header_.take_name = meta["take name"];
+  auto rate = [&](const std::string& key, double& out) {
+    if (meta.count(key) && !meta[key].empty() && !ParseDouble(meta[key], out)) {
+      throw std::runtime_error(where(1) + "'" + key + "' is '" + meta[key] + "'; expected a number in Hz");
+    }
+  };
+  rate("capture frame rate", header_.capture_rate_hz);
+  rate("export frame rate", header_.export_rate_hz);
+  if (header_.export_rate_hz <= 0) header_.export_rate_hz = header_.capture_rate_hz;
+  if (!(header_.export_rate_hz > 0)) {
+    throw std::runtime_error(where(1) + "'Export Frame Rate' is missing or not positive; cannot build the time axis");
+  }
+  if (meta.count("total exported frames")) {
+    double n = 0;
+    if (ParseDouble(meta["total exported frames"], n)) header_.total_exported_frames = static_cast<std::int64_t>(n);
+  }
+  const std::string rotation = meta.count("rotation type") ? meta["rotation type"] : "Quaternion";
+  bool known_rotation = false;
+  for (const auto& [name, type] : kRotationTypes) {
+    if (Lower(name) == Lower(rotation)) {
+      header_.rotation_type = type;
+      known_rotation = true;
+    }
+  }
+  if (!known_rotation) {
+    throw std::runtime_error(where(1) + "'Rotation Type' is '" + rotation +
+                             "'; expected Quaternion, XYZ, XZY, YXZ, YZX, ZXY or ZYX");
+  }
+  header_.length_units = meta.count("length units") ? meta["length units"] : "Meters";
+  const std::string units = Lower(header_.length_units);
+  if (units == "meters" || units == "metres") {
+    header_.length_scale_to_m = 1.0;
+  } else if (units == "millimeters" || units == "millimetres") {
+    header_.length_scale_to_m = 1e-3;
+  } else if (units == "centimeters" || units == "centimetres") {
+    header_.length_scale_to_m = 1e-2;
+  } else {
+    throw std::runtime_error(where(1) + "'Length Units' is '" + header_.length_units +
+                             "'; expected Meters, Centimeters or Millimeters");
+  }
+
+  // Header rows up to the one starting with "Frame".
+  std::vector<std::string> rows;
+  std::vector<std::size_t> row_lines;
+  for (;;) {
+    if (!NextLine(line)) {
+      throw std::runtime_error(src + ": the file ends inside the header (no row starting with 'Frame'); it is "
+                               "truncated or not a Motive export");
+    }
+    SplitCsvLine(line, fields);
+    if (AllEmpty(fields)) continue;  // the blank row (a spreadsheet may write it as commas)
+    if (Lower(Trim(fields[0])) == "frame") break;
+    rows.push_back(line);
+    row_lines.push_back(line_number_);
+    if (rows.size() > 16) {
+      throw std::runtime_error(where(line_number_) + "no row starting with 'Frame' within the header; not a Motive "
+                               "CSV export");
+    }
+  }
+  header_.header_lines = static_cast<int>(line_number_);
+  const std::string axis_line = line;
+  std::vector<std::string_view> axis;
+  SplitCsvLine(axis_line, axis);
+  if (rows.size() < 3) {
+    throw std::runtime_error(where(line_number_) + "expected the Type, Name, ID and quantity header rows above "
+                             "the 'Frame' row; found " + std::to_string(rows.size()));
+  }
+  std::vector<std::string_view> type_row, name_row, id_row, quantity_row;
+  SplitCsvLine(rows[0], type_row);
+  SplitCsvLine(rows[1], name_row);
+  SplitCsvLine(rows[2], id_row);
+  if (rows.size() >= 4) SplitCsvLine(rows.back(), quantity_row);
+  // Spreadsheets add trailing empty cells: the number of columns is the last non-empty axis or type cell.
+  std::size_t ncols = 0;
+  for (std::size_t c = 0; c < std::max(axis.size(), type_row.size()); ++c) {
+    const bool has_axis = c < axis.size() && !Trim(axis[c]).empty();
+    const bool has_type = c < type_row.size() && !Trim(type_row[c]).empty();
+    if (has_axis || (c >= 2 && has_type)) ncols = c + 1;
+  }
+  layout_.num_columns = static_cast<int>(ncols);
+  if (ncols >= 2 && Lower(Trim(axis[1])).rfind("time", 0) == 0) layout_.time_column = 1;
+  auto cell = [](const std::vector<std::string_view>& r, std::size_t c) {
+    return c < r.size() ? std::string(Trim(r[c])) : std::string();
+  };
+  std::map<std::string, int> rb_index, rbm_index, m_index;
+  int asset_columns = 0;
+  for (std::size_t c = 2; c < ncols; ++c) {
+    const std::string type = Lower(cell(type_row, c));
+    const std::string name = cell(name_row, c);
+    const std::string id = cell(id_row, c);
+    const std::string quantity = Lower(cell(quantity_row, c));
+    const int ax = AxisMap::Index(cell(axis, c));
+    const int col = static_cast<int>(c);
+    if (type.empty()) continue;
+    ++asset_columns;
+    const std::string key = name + "\x1f" + id;
+    if (type == "rigid body") {
+      auto [it, inserted] = rb_index.try_emplace(key, static_cast<int>(layout_.rigid_bodies.size()));
+      if (inserted) layout_.rigid_bodies.push_back({name, id, {-1, -1, -1, -1}, {-1, -1, -1}, -1, {}});
+      MotiveRigidBodyColumns& rb = layout_.rigid_bodies[it->second];
+      if (quantity == "rotation" && ax >= 0) {
+        rb.rotation[ax] = col;
+      } else if (quantity == "position" && ax >= 0 && ax < 3) {
+        rb.position[ax] = col;
+      } else if (quantity == "mean marker error" || quantity == "error per marker") {
+        rb.mean_marker_error = col;
+      }
+    } else if (type == "rigid body marker" || type == "marker") {
+      auto& index = type == "marker" ? m_index : rbm_index;
+      auto& list = type == "marker" ? layout_.markers : layout_.rigid_body_markers;
+      auto [it, inserted] = index.try_emplace(key, static_cast<int>(list.size()));
+      if (inserted) list.push_back({name, id, {-1, -1, -1}, -1});
+      MotiveMarkerColumns& m = list[it->second];
+      if (quantity == "position" && ax >= 0 && ax < 3) {
+        m.position[ax] = col;
+      } else if (quantity == "marker quality") {
+        m.marker_quality = col;
+      }
+    } else {
+      ++layout_.other_asset_columns;  // bones, bone markers, force plates...: not used here
+    }
+  }
+  if (asset_columns == 0) {
+    throw std::runtime_error(src + ": the take was exported with no assets (only Frame and Time columns); there is "
+                             "nothing to evaluate. Re-export with the rigid bodies and/or markers enabled");
+  }
+  const bool quaternion = header_.rotation_type == MotiveRotationType::kQuaternion;
+  for (MotiveRigidBodyColumns& rb : layout_.rigid_bodies) {
+    const int needed = quaternion ? 4 : 3;
+    for (int k = 0; k < needed; ++k) {
+      if (rb.rotation[k] < 0) {
+        throw std::runtime_error(where(header_.header_lines) + "rigid body '" + rb.name + "' has no Rotation " +
+                                 "XYZW"[k] + " column, but 'Rotation Type' is " +
+                                 std::string(RotationTypeName(header_.rotation_type)));
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (rb.position[k] < 0) {
+        throw std::runtime_error(where(header_.header_lines) + "rigid body '" + rb.name + "' has no Position " +
+                                 "XYZ"[k] + " column");
+      }
+    }
+  }
+  // Rigid-body markers belong to the rigid body whose name prefixes theirs ("RB:Marker1" in 1.23, "RB_1" in 1.21)
+  // or, failing that, with the same ID (1.21 writes the rigid body's ID on its markers).
+  for (std::size_t m = 0; m < layout_.rigid_body_markers.size(); ++m) {
+    const MotiveMarkerColumns& marker = layout_.rigid_body_markers[m];
+    int owner = -1;
+    for (std::size_t r = 0; r < layout_.rigid_bodies.size() && owner < 0; ++r) {
+      const std::string& n = layout_.rigid_bodies[r].name;
+      if (marker.name.size() > n.size() && marker.name.compare(0, n.size(), n) == 0 &&
+          (marker.name[n.size()] == ':' || marker.name[n.size()] == '_')) {
+        owner = static_cast<int>(r);
+      }
+    }
+    for (std::size_t r = 0; r < layout_.rigid_bodies.size() && owner < 0; ++r) {
+      if (!marker.id.empty() && layout_.rigid_bodies[r].id == marker.id) owner = static_cast<int>(r);
+    }
+    if (owner >= 0) layout_.rigid_bodies[owner].marker_indices.push_back(static_cast<int>(m));
+  }
+}
+
+bool MotiveReader::ReadFrame(MotiveRow& row) {
+  for (;;) {
+    if (!NextLine(row.line_)) return false;
+    if (row.line_.empty()) continue;  // a trailing empty line
+    SplitCsvLine(row.line_, row.fields_);
+    if (AllEmpty(row.fields_)) continue;  // spreadsheet padding rows
+    break;
+  }
+  row.line_number = line_number_;
+  row.length_scale_ = header_.length_scale_to_m;
+  double frame = 0;
+  if (!ParseDouble(row.fields_[0], frame) || frame != std::floor(frame) || frame < 0 || frame > 9.0e15) {
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the Frame cell is '" +
+                             std::string(row.fields_[0].substr(0, 40)) + "'; expected a non-negative whole number");
+  }
+  row.frame = static_cast<std::int64_t>(frame);
+  if (row.frame <= previous_frame_) {
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": frame " +
+                             std::to_string(row.frame) + " does not follow frame " + std::to_string(previous_frame_) +
+                             "; frames must increase");
+  }
+  previous_frame_ = row.frame;
+  row.time_s = static_cast<double>(row.frame) / header_.export_rate_hz;
+  // A row cut short by truncation: fewer fields than the header announced, at the unterminated end of the file
+  // (Motive writes every cell of every row, and ends each row with a newline).
+  const int nfields = static_cast<int>(row.fields_.size());
+  if (nfields < layout_.num_columns && line_unterminated_) {
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the last row has " +
+                             std::to_string(nfields) + " of " + std::to_string(layout_.num_columns) +
+                             " cells and no line end: the file is truncated");
+  }
+  if (nfields < layout_.num_columns && nfields > 2 && !Trim(row.fields_.back()).empty()) {
+    // Motive itself writes every column; a short row with a value at its end is a truncated file.
+    double v = 0;
+    if (!ParseDouble(row.fields_.back(), v)) {
+      throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": row has " +
+                               std::to_string(nfields) + " cells, the header has " +
+                               std::to_string(layout_.num_columns) + ", and its last cell is not a number: truncated?");
+    }
+  }
+  return true;
+}
+
+std::optional<Eigen::Isometry3d> MotiveReader::RigidBodyPose(const MotiveRow& row, int rigid_body) const {
+  const MotiveRigidBodyColumns& rb = layout_.rigid_bodies[rigid_body];
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    const double v = row.Length(rb.position[k]);
+    if (std::isnan(v)) return std::nullopt;
+    X.translation()[k] = v;
+  }
+  if (header_.rotation_type == MotiveRotationType::kQuaternion) {
+    double q[4];
+    for (int k = 0; k < 4; ++k) {
+      q[k] = row.Number(rb.rotation[k]);
+      if (std::isnan(q[k])) return std::nullopt;
+    }
+    Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);  // Motive writes X, Y, Z, W (scalar last)
+    const double norm = quat.norm();
+    if (!(norm > 0.5 && norm < 1.5)) return std::nullopt;  // not a rotation: treat as unsolved
+    X.linear() = quat.normalized().toRotationMatrix();
+  } else {
+    Eigen::Vector3d a;
+    for (int k = 0; k < 3; ++k) {
+      a[k] = row.Number(rb.rotation[k]);
+      if (std::isnan(a[k])) return std::nullopt;
+    }
+    X.linear() = RotationFromMotiveEuler(header_.rotation_type, a * kDegToRad);
+  }
+  return X;
+}
+
+std::optional<Eigen::Vector3d> MotiveReader::MarkerPosition(const MotiveRow& row,
+                                                            const MotiveMarkerColumns& marker) const {
+  Eigen::Vector3d p;
+  for (int k = 0; k < 3; ++k) {
+    p[k] = row.Length(marker.position[k]);
+    if (std::isnan(p[k])) return std::nullopt;
+  }
+  return p;
+}
+
+}  // namespace robossis::calibration

@@ -1,0 +1,38 @@
+#pragma once
+// Clock alignment between a mocap recording and a command log: t_reference = (1 + drift) · t_mocap + offset.
+
+#include "calibration/trajectory.h"
+
+namespace robossis::calibration {
+
+struct ClockModel {
+  double offset_s = 0;
+  double drift = 0;  // dimensionless rate error (1e-6 = 1 ppm)
+  double ToReference(double t_mocap_s) const { return (1.0 + drift) * t_mocap_s + offset_s; }
+};
+
+struct SpeedCorrelationOptions {
+  // Searched offsets: those where the overlap covers at least this fraction of the shorter recording.
+  double min_overlap_fraction = 0.5;
+  // The finest grid of the search (s). The result is refined to sub-sample precision by a parabola.
+  double finest_step_s = 0.001;
+  // Search only offsets within center_s ± half_width_s (a known approximate offset; needed when the motion
+  // repeats itself, which makes the speed profiles match at several offsets).
+  bool bounded = false;
+  double center_s = 0, half_width_s = 2.0;
+};
+
+struct SpeedCorrelationResult {
+  double offset_s = 0;
+  double correlation = 0;  // normalized cross-correlation at the peak, in [-1, 1]
+};
+
+// Coarse-to-fine search for the offset maximizing the normalized cross-correlation of the speed profiles
+// (angular speed and linear speed, each standardized). Angular speed does not depend on the unknown tracker
+// transform or marker offset, which is why it is used before any registration. Throws std::runtime_error if the
+// recordings are too short or motionless.
+SpeedCorrelationResult EstimateOffsetBySpeedCorrelation(const PoseTrajectory& reference,
+                                                        const PoseTrajectory& tracked,
+                                                        const SpeedCorrelationOptions& options = {});
+
+}  // namespace robossis::calibration

@@ -1,0 +1,129 @@
+#include "calibration/tracking_report.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "src/core/pose.h"
+#include "src/core/units.h"
+
+namespace robossis::calibration {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json StatsJson(const ErrorStats& s, double scale) {
+  return json{{"mean", s.mean * scale}, {"median", s.median * scale}, {"rmse", s.rmse * scale},
+              {"std", s.std * scale},   {"p95", s.p95 * scale},       {"max", s.max * scale}};
+}
+
+json ErrorJson(const ErrorStats& norm, const ErrorStats* axes, double scale) {
+  json j = StatsJson(norm, scale);
+  j["per_axis"] = json{{"x", StatsJson(axes[0], scale)}, {"y", StatsJson(axes[1], scale)},
+                       {"z", StatsJson(axes[2], scale)}};
+  return j;
+}
+
+json PoseJson(const Eigen::Isometry3d& X) {
+  const Vector6d v = MmDegFromPose(X);
+  return json{{"position_mm", {v[0], v[1], v[2]}}, {"rpy_deg", {v[3], v[4], v[5]}}};
+}
+
+std::string Tum(const std::vector<double>& t, const std::vector<Eigen::Isometry3d>& X) {
+  PoseTrajectory traj;
+  for (std::size_t i = 0; i < t.size(); ++i) traj.Add(t[i], X[i].translation(), Eigen::Quaterniond(X[i].linear()));
+  return FormatTum(traj);
+}
+
+}  // namespace
+
+json TrackingSummaryJson(const TrackingEvalResult& r) {
+  json j;
+  j["translation_error_mm"] = ErrorJson(r.translation, r.translation_axis, kMToMm);
+  j["rotation_error_deg"] = ErrorJson(r.rotation, r.rotation_axis, kRadToDeg);
+  j["time_offset_s"] = r.clock.offset_s;
+  j["clock_drift_ppm"] = r.clock.drift * 1e6;
+  j["speed_correlation"] = r.speed_correlation;
+  j["registration_rms_mm"] = r.registration.rms_position_m * kMToMm;
+  j["registration_rms_deg"] = r.registration.rms_rotation_rad * kRadToDeg;
+  j["registration"] = json{{"method", r.registration.method},
+                           {"pairs", r.registration.pairs},
+                           {"max_mm", r.registration.max_position_m * kMToMm},
+                           {"max_deg", r.registration.max_rotation_rad * kRadToDeg},
+                           {"rotation_spread_deg", r.registration.rotation_spread_rad * kRadToDeg},
+                           {"tracker_in_robot_base_X_FT", PoseJson(r.registration.X_FT)},
+                           {"marker_body_in_ring_X_MB", PoseJson(r.registration.X_MB)}};
+  j["frames_used"] = r.translation.count;
+  j["frames_excluded"] = r.excluded.total();
+  j["frames_total"] = r.frames_total;
+  j["frames_excluded_by_reason"] = json{{"missing", r.excluded.missing},
+                                        {"outside_reference", r.excluded.outside_reference},
+                                        {"orientation_flip", r.excluded.orientation_flip}};
+  json quality{{"pose_source", r.pose_source},
+               {"frames_present", r.gaps.frames_present},
+               {"gaps", r.gaps.gaps},
+               {"longest_gap_frames", r.gaps.longest_gap_frames},
+               {"frame_jumps", r.frame_jumps},
+               {"quaternion_sign_flips", r.quaternion_sign_flips},
+               {"orientation_flips", r.excluded.orientation_flip}};
+  quality["mean_marker_error_mm"] =
+      r.mean_marker_error.count > 0 ? StatsJson(r.mean_marker_error, kMToMm) : json(nullptr);
+  j["data_quality"] = quality;
+  return j;
+}
+
+std::string TrackingErrorsCsv(const TrackingEvalResult& r) {
+  std::string out =
+      "t_s,ref_x_mm,ref_y_mm,ref_z_mm,ref_roll_deg,ref_pitch_deg,ref_yaw_deg,"
+      "trk_x_mm,trk_y_mm,trk_z_mm,trk_roll_deg,trk_pitch_deg,trk_yaw_deg,"
+      "ex_mm,ey_mm,ez_mm,e_mm,rx_deg,ry_deg,rz_deg,r_deg\n";
+  out.reserve(out.size() + r.t_reference_s.size() * 200);
+  char buf[512];
+  for (std::size_t i = 0; i < r.t_reference_s.size(); ++i) {
+    const Vector6d a = MmDegFromPose(r.X_FM_reference[i]);
+    const Vector6d b = MmDegFromPose(r.X_FM_tracked[i]);
+    const Eigen::Vector3d e = r.translation_error_m[i] * kMToMm;
+    const Eigen::Vector3d w = r.rotation_error_rad[i] * kRadToDeg;
+    std::snprintf(buf, sizeof buf,
+                  "%.6f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,"
+                  "%.6f,%.6f\n",
+                  r.t_reference_s[i], a[0], a[1], a[2], a[3], a[4], a[5], b[0], b[1], b[2], b[3], b[4], b[5], e.x(),
+                  e.y(), e.z(), e.norm(), w.x(), w.y(), w.z(), w.norm());
+    out += buf;
+  }
+  return out;
+}
+
+std::string ReferenceTum(const TrackingEvalResult& r) { return Tum(r.t_reference_s, r.X_FM_reference); }
+std::string TrackedTum(const TrackingEvalResult& r) { return Tum(r.t_reference_s, r.X_FM_tracked); }
+
+json TakeSummaryJson(const MotiveTakeSummary& s) {
+  json j;
+  j["format_version"] = s.header.format_version;
+  j["export_rate_hz"] = s.header.export_rate_hz;
+  j["frames"] = s.frames;
+  j["length_units"] = s.header.length_units;
+  j["rotation_type"] = std::string(RotationTypeName(s.header.rotation_type));
+  json bodies = json::array();
+  for (const MotiveTakeSummary::RigidBody& rb : s.rigid_bodies) {
+    bodies.push_back(json{{"name", rb.name},
+                          {"frames_present", rb.gaps.frames_present},
+                          {"gaps", rb.gaps.gaps},
+                          {"longest_gap_frames", rb.gaps.longest_gap_frames},
+                          {"rigid_body_markers", rb.rigid_body_markers},
+                          {"mean_marker_error_mm", std::isnan(rb.mean_marker_error_mean_m)
+                                                       ? json(nullptr)
+                                                       : json(rb.mean_marker_error_mean_m * kMToMm)}});
+  }
+  j["rigid_bodies"] = bodies;
+  j["markers"] = s.markers;
+  j["rigid_body_markers"] = s.rigid_body_markers;
+  j["take_name"] = s.header.take_name;
+  j["first_frame"] = s.first_frame;
+  j["last_frame"] = s.last_frame;
+  j["frame_jumps"] = s.frame_jumps;
+  j["duration_s"] = s.frames > 0 ? static_cast<double>(s.last_frame - s.first_frame) / s.header.export_rate_hz : 0.0;
+  return j;
+}
+
+}  // namespace robossis::calibration

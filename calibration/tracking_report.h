@@ -1,0 +1,29 @@
+#pragma once
+// The files of a tracking evaluation: summary.json (keys fixed by issue 7), errors.csv (one row per used frame),
+// and TUM trajectories of the reference and the registered tracked ring, so other tools (e.g. evo) can check them.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "calibration/mocap_track.h"
+#include "calibration/tracking_eval.h"
+
+namespace robossis::calibration {
+
+// translation_error_mm / rotation_error_deg: {mean, median, rmse, std, p95, max, per_axis: {x, y, z}} where each
+// per-axis entry holds the same statistics of |component|; plus time_offset_s, registration_rms_mm,
+// frames_used, frames_excluded and the data-quality section.
+nlohmann::ordered_json TrackingSummaryJson(const TrackingEvalResult& result);
+
+// t_s (reference clock), reference and tracked pose (mm, deg RPY), errors per axis and norms (mm, deg).
+std::string TrackingErrorsCsv(const TrackingEvalResult& result);
+
+// Reference and tracked ring poses at the used frames, TUM format, reference clock, robot base frame.
+std::string ReferenceTum(const TrackingEvalResult& result);
+std::string TrackedTum(const TrackingEvalResult& result);
+
+// `robossis mocap inspect --json`.
+nlohmann::ordered_json TakeSummaryJson(const MotiveTakeSummary& summary);
+
+}  // namespace robossis::calibration

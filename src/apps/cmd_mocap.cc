@@ -1,0 +1,196 @@
+// `robossis mocap inspect|simulate` and `robossis track-eval`: OptiTrack Motive recordings and tracking accuracy
+// (paper §VII-A, Fig. 14).
+
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "calibration/mocap_track.h"
+#include "calibration/synthetic_tracker.h"
+#include "calibration/tracking_eval.h"
+#include "calibration/tracking_report.h"
+#include "src/apps/app_context.h"
+#include "src/apps/plotting.h"
+#include "src/apps/tracking_outputs.h"
+#include "src/core/files.h"
+#include "src/core/parse.h"
+#include "src/core/units.h"
+
+namespace robossis::apps {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+void PrintInspectText(const json& doc) {
+  std::cout << "format " << doc["format_version"].get<std::string>() << ", "
+            << doc["export_rate_hz"].get<double>() << " Hz, " << doc["frames"].get<long long>() << " frames ("
+            << doc["duration_s"].get<double>() << " s), " << doc["length_units"].get<std::string>() << ", rotation "
+            << doc["rotation_type"].get<std::string>() << "\n";
+  for (const auto& rb : doc["rigid_bodies"]) {
+    std::cout << "rigid body '" << rb["name"].get<std::string>() << "': present in "
+              << rb["frames_present"].get<long long>() << " frames, " << rb["gaps"].get<long long>()
+              << " gaps (longest " << rb["longest_gap_frames"].get<long long>() << " frames), "
+              << rb["rigid_body_markers"].get<int>() << " rigid-body markers\n";
+  }
+  std::cout << "markers: " << doc["markers"].get<int>() << ", frame-number jumps: " << doc["frame_jumps"].get<long long>()
+            << "\n";
+}
+
+}  // namespace
+
+void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
+  CLI::App* mocap = app.add_subcommand("mocap", "OptiTrack Motive recordings: inspect, simulate");
+  mocap->require_subcommand(1);
+
+  CLI::App* inspect = mocap->add_subcommand(
+      "inspect", "Summarize a Motive CSV export (format 1.2x): rate, frames, rigid bodies, gaps, markers\n"
+                 "Example: robossis mocap inspect take.csv --json");
+  auto inspect_file = std::make_shared<std::string>();
+  auto inspect_json = std::make_shared<bool>(false);
+  inspect->add_option("FILE", *inspect_file, "Motive CSV export")->required();
+  inspect->add_flag("--json", *inspect_json, "Machine-readable output");
+  inspect->callback([inspect_file, inspect_json] {
+    const json doc = calibration::TakeSummaryJson(calibration::InspectMotiveTake(*inspect_file));
+    if (*inspect_json) {
+      PrintJson(doc);
+    } else {
+      PrintInspectText(doc);
+    }
+  });
+
+  struct SimulateOptions {
+    std::string reference, out, rigid_body = "MovingRing", units = "m", rotation = "Quaternion";
+    double rate_hz = 120, offset_s = 0, drift_ppm = 0;
+    int gaps = 0;
+    unsigned seed = 42;
+    std::string tracker_pose = "400,-300,1500,180,0,30", marker_offset = "0,0,25,0,0,0";
+  };
+  auto sim = std::make_shared<SimulateOptions>();
+  CLI::App* simulate = mocap->add_subcommand(
+      "simulate", "Write a genuine Motive CSV export of a simulated OptiTrack session following a trajectory\n"
+                  "Example: robossis mocap simulate --reference commanded.csv --out take.csv --offset-s 2.5 --gaps 3");
+  simulate->add_option("--reference", sim->reference, "Trajectory the ring follows (project CSV or TUM)")->required();
+  simulate->add_option("--out", sim->out, "Motive CSV to write")->required();
+  simulate->add_option("--rigid-body", sim->rigid_body, "Rigid body name")->capture_default_str();
+  simulate->add_option("--rate-hz", sim->rate_hz, "Frame rate")->capture_default_str();
+  simulate->add_option("--offset-s", sim->offset_s, "Clock offset: t_reference = t_mocap + offset")->capture_default_str();
+  simulate->add_option("--drift-ppm", sim->drift_ppm, "Clock drift")->capture_default_str();
+  simulate->add_option("--gaps", sim->gaps, "Number of occlusion gaps")->capture_default_str();
+  simulate->add_option("--units", sim->units, "Length units in the file: m or mm")->capture_default_str();
+  simulate->add_option("--rotation-type", sim->rotation, "Quaternion, XYZ, XZY, YXZ, YZX, ZXY or ZYX")
+      ->capture_default_str();
+  simulate->add_option("--tracker-pose", sim->tracker_pose,
+                       "Robot base in the tracker frame X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG")
+      ->capture_default_str();
+  simulate->add_option("--marker-offset", sim->marker_offset, "Marker body in the ring frame (same format)")
+      ->capture_default_str();
+  simulate->add_option("--seed", sim->seed, "Random seed")->capture_default_str();
+  simulate->callback([sim] {
+    calibration::SyntheticTrackerOptions o;
+    if (!(sim->rate_hz > 0 && sim->rate_hz <= 10000)) throw std::invalid_argument("--rate-hz: expected 0 < rate ≤ 10000");
+    if (sim->gaps < 0) throw std::invalid_argument("--gaps: expected ≥ 0");
+    if (sim->units != "m" && sim->units != "mm") throw std::invalid_argument("--units: expected m or mm, got '" + sim->units + "'");
+    o.rate_hz = sim->rate_hz;
+    o.clock_offset_s = sim->offset_s;
+    o.clock_drift = sim->drift_ppm * 1e-6;
+    o.occlusion_gaps = sim->gaps;
+    o.millimetres = sim->units == "mm";
+    o.seed = sim->seed;
+    o.rigid_body_name = sim->rigid_body;
+    bool known = false;
+    for (auto t : {calibration::MotiveRotationType::kQuaternion, calibration::MotiveRotationType::kXYZ,
+                   calibration::MotiveRotationType::kXZY, calibration::MotiveRotationType::kYXZ,
+                   calibration::MotiveRotationType::kYZX, calibration::MotiveRotationType::kZXY,
+                   calibration::MotiveRotationType::kZYX}) {
+      if (calibration::RotationTypeName(t) == sim->rotation) {
+        o.rotation_type = t;
+        known = true;
+      }
+    }
+    if (!known) throw std::invalid_argument("--rotation-type: expected Quaternion, XYZ, XZY, YXZ, YZX, ZXY or ZYX");
+    o.X_TF = ParsePoseMmDeg(sim->tracker_pose, "--tracker-pose");
+    o.X_MB = ParsePoseMmDeg(sim->marker_offset, "--marker-offset");
+    const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(sim->reference);
+    std::ostringstream csv;
+    const calibration::SyntheticRecording rec = calibration::WriteSyntheticMotiveCsv(reference, o, csv);
+    WriteFileAtomically(sim->out, csv.str());
+    std::cerr << "wrote " << sim->out << ": " << rec.frames << " frames, " << rec.gaps << " gaps ("
+              << rec.frames_occluded << " frames occluded)\n";
+  });
+}
+
+void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
+  struct Options {
+    std::string mocap, rigid_body, reference, out;
+    bool json = false, no_drift = false, no_plot = false;
+    double offset_s = 0, offset_window_s = 2.0;
+    double flip_threshold_deg = 10;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "track-eval",
+      "Tracking accuracy (paper Fig. 14): register and time-align a Motive rigid body to a command log, then\n"
+      "report translational (mm) and rotational (deg) errors, data quality and the Fig. 14 figure\n"
+      "Example: robossis track-eval --mocap take.csv --rigid-body MovingRing --reference commanded.csv --out eval");
+  cmd->add_option("--mocap", o->mocap, "Motive CSV export (format 1.2x)")->required();
+  cmd->add_option("--rigid-body", o->rigid_body, "Rigid body (or marker-set) name in the export")->required();
+  cmd->add_option("--reference", o->reference,
+                  "Commanded trajectory: project CSV (t_s, x_m|x_mm.., qw..|roll_deg..) or TUM")
+      ->required();
+  cmd->add_option("--out", o->out, "Output folder (written atomically: complete or untouched)")->required();
+  cmd->add_flag("--json", o->json, "Print summary.json to stdout");
+  auto offset_opt = cmd->add_option("--offset-s", o->offset_s,
+                                    "Approximate clock offset (t_reference = t_mocap + offset): search only within "
+                                    "±--offset-window-s of it (for motions that repeat themselves)");
+  cmd->add_option("--offset-window-s", o->offset_window_s, "Half-width of the search around --offset-s")
+      ->capture_default_str();
+  cmd->add_flag("--no-drift", o->no_drift, "Estimate the clock offset only, not the drift");
+  cmd->add_option("--flip-threshold-deg", o->flip_threshold_deg,
+                  "Frames whose orientation error exceeds this are excluded as orientation flips")
+      ->capture_default_str();
+  cmd->add_flag("--no-plot", o->no_plot, "Skip the Fig. 14 PNG");
+  cmd->callback([o, offset_opt] {
+    if (!(o->flip_threshold_deg > 0)) throw std::invalid_argument("--flip-threshold-deg: expected a positive angle");
+    // Read and evaluate everything before creating the output folder, so bad input leaves nothing behind.
+    const calibration::RigidBodyTrack track = calibration::ReadRigidBodyTrack(o->mocap, o->rigid_body);
+    const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(o->reference);
+    calibration::TrackingEvalOptions options;
+    options.estimate_drift = !o->no_drift;
+    options.flip_threshold_rad = DegToRad(o->flip_threshold_deg);
+    if (offset_opt->count() > 0) {
+      options.offset_given = true;
+      options.offset_s = o->offset_s;
+      options.offset_window_s = o->offset_window_s;
+      if (!(o->offset_window_s > 0)) throw std::invalid_argument("--offset-window-s: expected a positive duration");
+    }
+    const calibration::TrackingEvalResult result = calibration::EvaluateTracking(track, reference, options);
+    StagedOutputDir out(o->out);
+    const json inputs{{"mocap", o->mocap}, {"rigid_body", o->rigid_body}, {"reference", o->reference}};
+    WriteTrackingOutputs(result, inputs, out, "");
+    if (!o->no_plot) {
+      std::vector<std::string> args = TrackingFigureArgs(out, "", "Tracking accuracy: " + o->rigid_body);
+      args.push_back("--out");
+      args.push_back(out.Path("fig14_tracking.png").string());
+      const PlotResult plot = RunPlotScript("tracking_fig14.py", args);
+      if (!plot.ok) std::cerr << "robossis: warning: figure not drawn: " << plot.message << "\n";
+    }
+    out.Commit();
+    if (o->json) {
+      json summary = calibration::TrackingSummaryJson(result);
+      summary["inputs"] = inputs;
+      PrintJson(summary);
+    } else {
+      const json s = calibration::TrackingSummaryJson(result);
+      std::cout << "translation error (mm): mean " << s["translation_error_mm"]["mean"].get<double>() << ", max "
+                << s["translation_error_mm"]["max"].get<double>() << "; rotation error (deg): mean "
+                << s["rotation_error_deg"]["mean"].get<double>() << ", max "
+                << s["rotation_error_deg"]["max"].get<double>() << "\nclock offset " << result.clock.offset_s
+                << " s, registration RMS " << s["registration_rms_mm"].get<double>() << " mm, frames used "
+                << s["frames_used"].get<long long>() << ", excluded " << s["frames_excluded"].get<long long>()
+                << "\nwritten to " << o->out << "\n";
+    }
+  });
+}
+
+}  // namespace robossis::apps
