@@ -26,6 +26,7 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context);
 void RegisterHcCommands(CLI::App& app, const AppContext& context);
 void RegisterDemoCommand(CLI::App& app, const AppContext& context);
 void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context);
+void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context);
 
 // "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI. Throws std::invalid_argument naming the option.
 Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name);

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   apps::RegisterHcCommands(app, context);
   apps::RegisterDemoCommand(app, context);
   apps::RegisterRenderCompareCommand(app, context);
+  apps::RegisterWorkspaceCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

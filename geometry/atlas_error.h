@@ -1,0 +1,42 @@
+#pragma once
+// The error the atlas grid spacing introduces: at random off-grid poses near the boundary, the atlas' signed
+// distance (nearest-node slice) against the reference signed distance to the TRUE slice of the actual pose
+// (reference_distance.h; independent of every mesh). The same measure at on-grid poses isolates the mesh error.
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/boundary_atlas.h"
+#include "geometry/reference_distance.h"
+
+namespace robossis::geometry {
+
+struct ErrorStats {
+  int samples = 0;
+  int not_found = 0;  // reference found no boundary within its search radius (counted, excluded from the stats)
+  int sign_disagreements = 0;
+  double mean = 0, p50 = 0, p95 = 0, max = 0;  // |atlas - reference|, slice units (m or rad)
+};
+ErrorStats SummariseErrors(std::vector<double> errors, int not_found, int sign_disagreements);
+
+struct AtlasErrorReport {
+  ErrorStats dexterous_off_grid, dexterous_on_grid;    // m
+  ErrorStats rotational_off_grid, rotational_on_grid;  // rad
+};
+
+struct AtlasErrorOptions {
+  int samples = 40;                    // per family and per on/off-grid case
+  double position_offset_m = 0.003;    // query points: a random mesh vertex + uniform offset in +/- this
+  double angle_offset_rad = 0.0175;    // (1 deg)
+  std::uint32_t seed = 42;
+};
+
+AtlasErrorReport MeasureAtlasError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
+                                   const BoundaryAtlas& atlas, const AtlasErrorOptions& options = {});
+
+// Mesh-versus-true-boundary error of one slice: signed distance from the mesh (FCL query) against the reference at
+// random points near the boundary.
+ErrorStats MeasureSliceError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const WorkspaceSlice& slice,
+                             int samples, std::uint32_t seed);
+
+}  // namespace robossis::geometry

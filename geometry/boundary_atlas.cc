@@ -1,0 +1,300 @@
+// The boundary atlas: build, save (atomically), load (verified), look up.
+
+#include "geometry/boundary_atlas.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "src/core/files.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+
+namespace robossis::geometry {
+
+namespace {
+
+constexpr const char* kFormat = "robossis-boundary-atlas";
+constexpr int kVersion = 1;
+
+std::uint64_t Fnv1a64(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const char c : bytes) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string Hex(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+int NodeCount(const std::array<GridAxis, 3>& g) { return g[0].count * g[1].count * g[2].count; }
+int Flat(const std::array<GridAxis, 3>& g, const Eigen::Vector3i& n) { return n.x() + g[0].count * (n.y() + g[1].count * n.z()); }
+Eigen::Vector3d NodeValue(const std::array<GridAxis, 3>& g, const Eigen::Vector3i& n) {
+  return {g[0].min + g[0].step * n.x(), g[1].min + g[1].step * n.y(), g[2].min + g[2].step * n.z()};
+}
+
+GridAxis Axis(double min, double max, double step) {
+  GridAxis a;
+  a.min = min;
+  a.step = step;
+  a.count = static_cast<int>(std::lround((max - min) / step)) + 1;
+  return a;
+}
+
+nlohmann::ordered_json GridJson(const std::array<GridAxis, 3>& g, double scale) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const GridAxis& a : g) j.push_back({{"min", a.min * scale}, {"step", a.step * scale}, {"count", a.count}});
+  return j;
+}
+
+std::array<GridAxis, 3> GridFromJson(const nlohmann::json& j, double scale, const std::string& where) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error(where + ": expected an array of 3 axes");
+  std::array<GridAxis, 3> g;
+  for (int a = 0; a < 3; ++a) {
+    g[a].min = j[a].at("min").get<double>() / scale;
+    g[a].step = j[a].at("step").get<double>() / scale;
+    g[a].count = j[a].at("count").get<int>();
+  }
+  return g;
+}
+
+void ValidateGrid(const std::array<GridAxis, 3>& g, const std::string& name) {
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(g[a].min) || !std::isfinite(g[a].step) || g[a].count < 1 || g[a].count > 1000 ||
+        (g[a].count > 1 && !(g[a].step > 0))) {
+      throw std::invalid_argument(name + " axis " + std::to_string(a) +
+                                  ": expected a finite min, a step > 0 and 1..1000 nodes");
+    }
+  }
+}
+
+}  // namespace
+
+int GridAxis::Nearest(double x) const noexcept {
+  if (count <= 1 || !(step > 0) || !std::isfinite(x)) return 0;
+  const double i = std::round((x - min) / step);
+  if (i <= 0) return 0;
+  if (i >= count - 1) return count - 1;
+  return static_cast<int>(i);
+}
+
+AtlasSpec AtlasSpec::Default(const robot::RsrModel& rsr) {
+  AtlasSpec s;
+  s.orientation_grid = {Axis(DegToRad(-20), DegToRad(20), DegToRad(5)), Axis(DegToRad(-20), DegToRad(20), DegToRad(5)),
+                        Axis(DegToRad(-40), DegToRad(40), DegToRad(10))};
+  const Eigen::Vector3d home = rsr.geometry().X_FM_home.translation();
+  s.position_grid = {Axis(home.x() - 0.12, home.x() + 0.12, 0.03), Axis(home.y() - 0.12, home.y() + 0.12, 0.03),
+                     Axis(home.z() - 0.06, home.z() + 0.06, 0.02)};
+  s.dexterous_resolution_m = 0.004;
+  s.rotational_resolution_rad = DegToRad(2);
+  return s;
+}
+
+AtlasSpec AtlasSpec::Coarse(const robot::RsrModel& rsr) {
+  AtlasSpec s;
+  s.orientation_grid = {Axis(DegToRad(-10), DegToRad(10), DegToRad(10)), Axis(0, 0, 1),
+                        Axis(DegToRad(-20), DegToRad(20), DegToRad(20))};
+  const Eigen::Vector3d home = rsr.geometry().X_FM_home.translation();
+  s.position_grid = {Axis(home.x() - 0.05, home.x() + 0.05, 0.05), Axis(home.y(), home.y(), 1),
+                     Axis(home.z(), home.z(), 1)};
+  s.dexterous_resolution_m = 0.01;
+  s.rotational_resolution_rad = DegToRad(4);
+  return s;
+}
+
+void AtlasSpec::Validate() const {
+  ValidateGrid(orientation_grid, "atlas orientation grid");
+  ValidateGrid(position_grid, "atlas position grid");
+  if (!(dexterous_resolution_m > 0) || !std::isfinite(dexterous_resolution_m)) {
+    throw std::invalid_argument("atlas dexterous resolution must be > 0 mm");
+  }
+  if (!(rotational_resolution_rad > 0) || !std::isfinite(rotational_resolution_rad)) {
+    throw std::invalid_argument("atlas rotational resolution must be > 0 deg");
+  }
+}
+
+BoundaryAtlas::BoundaryAtlas(AtlasSpec spec, std::vector<AtlasSlice> dexterous, std::vector<AtlasSlice> rotational)
+    : spec_(std::move(spec)), dexterous_(std::move(dexterous)), rotational_(std::move(rotational)) {
+  spec_.Validate();
+  dexterous_index_.assign(static_cast<std::size_t>(NodeCount(spec_.orientation_grid)), -1);
+  rotational_index_.assign(static_cast<std::size_t>(NodeCount(spec_.position_grid)), -1);
+  auto index = [](const std::vector<AtlasSlice>& slices, const std::array<GridAxis, 3>& g, std::vector<int>& table,
+                  const char* name) {
+    for (std::size_t s = 0; s < slices.size(); ++s) {
+      const Eigen::Vector3i& n = slices[s].node;
+      for (int a = 0; a < 3; ++a) {
+        if (n[a] < 0 || n[a] >= g[a].count) throw std::invalid_argument(std::string(name) + " slice node out of grid");
+      }
+      if (!slices[s].field) throw std::invalid_argument(std::string(name) + " slice without a mesh");
+      table[static_cast<std::size_t>(Flat(g, n))] = static_cast<int>(s);
+    }
+  };
+  index(dexterous_, spec_.orientation_grid, dexterous_index_, "dexterous");
+  index(rotational_, spec_.position_grid, rotational_index_, "rotational");
+}
+
+const AtlasSlice* BoundaryAtlas::FindDexterous(const Eigen::Vector3d& rpy_rad) const noexcept {
+  if (dexterous_index_.empty()) return nullptr;
+  const auto& g = spec_.orientation_grid;
+  const Eigen::Vector3i n(g[0].Nearest(rpy_rad.x()), g[1].Nearest(rpy_rad.y()), g[2].Nearest(rpy_rad.z()));
+  const int s = dexterous_index_[static_cast<std::size_t>(Flat(g, n))];
+  return s < 0 ? nullptr : &dexterous_[static_cast<std::size_t>(s)];
+}
+
+const AtlasSlice* BoundaryAtlas::FindRotational(const Eigen::Vector3d& p_FM_m) const noexcept {
+  if (rotational_index_.empty()) return nullptr;
+  const auto& g = spec_.position_grid;
+  const Eigen::Vector3i n(g[0].Nearest(p_FM_m.x()), g[1].Nearest(p_FM_m.y()), g[2].Nearest(p_FM_m.z()));
+  const int s = rotational_index_[static_cast<std::size_t>(Flat(g, n))];
+  return s < 0 ? nullptr : &rotational_[static_cast<std::size_t>(s)];
+}
+
+BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& spec,
+                         const std::filesystem::path& dir, const AtlasProgress& progress) {
+  spec.Validate();
+  StagedOutputDir out(dir);
+  nlohmann::ordered_json manifest;
+  manifest["format"] = kFormat;
+  manifest["version"] = kVersion;
+  manifest["units"] = {{"dexterous_mesh", "mm, position of the moving-ring centre P in the fixed-ring frame F"},
+                       {"rotational_mesh", "deg, (roll, pitch, yaw) of R_FM with R = Rz(yaw) Ry(pitch) Rx(roll)"},
+                       {"orientation_grid", "deg"},
+                       {"position_grid", "mm"}};
+  manifest["orientation_grid"] = GridJson(spec.orientation_grid, kRadToDeg);
+  manifest["position_grid"] = GridJson(spec.position_grid, kMToMm);
+  manifest["dexterous_resolution_mm"] = spec.dexterous_resolution_m * kMToMm;
+  manifest["rotational_resolution_deg"] = spec.rotational_resolution_rad * kRadToDeg;
+  const int total = NodeCount(spec.orientation_grid) + NodeCount(spec.position_grid);
+  int done = 0;
+  std::vector<AtlasSlice> slices[2];
+  nlohmann::ordered_json entries[2] = {nlohmann::ordered_json::array(), nlohmann::ordered_json::array()};
+  for (int family = 0; family < 2; ++family) {
+    const bool dexterous = family == 0;
+    const auto& g = dexterous ? spec.orientation_grid : spec.position_grid;
+    const SliceKind kind = dexterous ? SliceKind::kRsrDexterous : SliceKind::kRsrRotational;
+    const double scale = EdgeUnitScale(kind);
+    for (int k = 0; k < g[2].count; ++k) {
+      for (int j = 0; j < g[1].count; ++j) {
+        for (int i = 0; i < g[0].count; ++i) {
+          const Eigen::Vector3i node(i, j, k);
+          SliceSpec s;
+          s.kind = kind;
+          s.fixed = NodeValue(g, node);
+          s.resolution = dexterous ? spec.dexterous_resolution_m : spec.rotational_resolution_rad;
+          WorkspaceSlice slice;
+          bool empty = false;
+          try {
+            slice = GenerateSlice(rsr, hc, s);
+          } catch (const std::runtime_error&) {
+            empty = true;  // the node's pose is unreachable: no slice (documented in the manifest)
+          }
+          if (progress) progress(++done, total);
+          if (empty || slice.mesh.triangles.empty()) continue;
+          const std::string file = std::string(dexterous ? "dexterous/d_" : "rotational/r_") + std::to_string(i) +
+                                   "_" + std::to_string(j) + "_" + std::to_string(k) + ".ply";
+          const std::string bytes = BinaryPlyBytes(slice.mesh, scale);
+          out.Write(file, bytes);
+          const double fixed_scale = dexterous ? kRadToDeg : kMToMm;
+          entries[family].push_back({{"node", {i, j, k}},
+                                     {dexterous ? "rpy_deg" : "position_mm",
+                                      {s.fixed.x() * fixed_scale, s.fixed.y() * fixed_scale, s.fixed.z() * fixed_scale}},
+                                     {"file", file},
+                                     {"bytes", bytes.size()},
+                                     {"fnv1a64", Hex(Fnv1a64(bytes))},
+                                     {"volume", slice.stats.volume * scale * scale * scale},
+                                     {"triangles", slice.stats.triangles}});
+          // Re-read the bytes as Load() will, so the in-memory atlas equals the saved one (float32 coordinates).
+          AtlasSlice a;
+          a.kind = kind;
+          a.node = node;
+          a.fixed = s.fixed;
+          a.field = std::make_shared<BoundaryDistanceField>(ParseBinaryPly(bytes, scale, file));
+          slices[family].push_back(std::move(a));
+        }
+      }
+    }
+  }
+  manifest["dexterous_slices"] = entries[0];
+  manifest["rotational_slices"] = entries[1];
+  out.Write("manifest.json", manifest.dump(1) + "\n");
+  BoundaryAtlas atlas(spec, std::move(slices[0]), std::move(slices[1]));
+  out.Commit();
+  return atlas;
+}
+
+BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
+  const std::filesystem::path manifest_file = dir / "manifest.json";
+  if (!std::filesystem::is_directory(dir)) throw std::runtime_error(dir.string() + ": atlas folder does not exist");
+  if (!std::filesystem::exists(manifest_file)) {
+    throw std::runtime_error(manifest_file.string() + ": missing (not an atlas, or an incomplete one)");
+  }
+  const std::string where = manifest_file.string();
+  try {
+    const nlohmann::json m = nlohmann::json::parse(ReadTextFile(manifest_file));
+    if (m.at("format").get<std::string>() != kFormat || m.at("version").get<int>() != kVersion) {
+      throw std::runtime_error("format/version is not " + std::string(kFormat) + " " + std::to_string(kVersion));
+    }
+    AtlasSpec spec;
+    spec.orientation_grid = GridFromJson(m.at("orientation_grid"), kRadToDeg, "orientation_grid");
+    spec.position_grid = GridFromJson(m.at("position_grid"), kMToMm, "position_grid");
+    spec.dexterous_resolution_m = m.at("dexterous_resolution_mm").get<double>() * kMmToM;
+    spec.rotational_resolution_rad = m.at("rotational_resolution_deg").get<double>() * kDegToRad;
+    spec.Validate();
+    std::vector<AtlasSlice> slices[2];
+    for (int family = 0; family < 2; ++family) {
+      const bool dexterous = family == 0;
+      const SliceKind kind = dexterous ? SliceKind::kRsrDexterous : SliceKind::kRsrRotational;
+      const auto& g = dexterous ? spec.orientation_grid : spec.position_grid;
+      for (const nlohmann::json& e : m.at(dexterous ? "dexterous_slices" : "rotational_slices")) {
+        const std::string file = e.at("file").get<std::string>();
+        if (file.find("..") != std::string::npos || file.empty() || file.front() == '/') {
+          throw std::runtime_error("slice file '" + file + "' is not a relative path inside the atlas");
+        }
+        const std::string bytes = ReadTextFile(dir / file);
+        if (bytes.size() != e.at("bytes").get<std::size_t>() || Hex(Fnv1a64(bytes)) != e.at("fnv1a64").get<std::string>()) {
+          throw std::runtime_error("slice file '" + file + "' does not match its size/hash (corrupt or partial atlas)");
+        }
+        AtlasSlice a;
+        a.kind = kind;
+        const auto node = e.at("node");
+        a.node = Eigen::Vector3i(node.at(0).get<int>(), node.at(1).get<int>(), node.at(2).get<int>());
+        for (int k = 0; k < 3; ++k) {
+          if (a.node[k] < 0 || a.node[k] >= g[k].count) throw std::runtime_error("slice '" + file + "': node outside the grid");
+        }
+        a.fixed = NodeValue(g, a.node);
+        a.field = std::make_shared<BoundaryDistanceField>(ParseBinaryPly(bytes, EdgeUnitScale(kind), (dir / file).string()));
+        slices[family].push_back(std::move(a));
+      }
+    }
+    return BoundaryAtlas(spec, std::move(slices[0]), std::move(slices[1]));
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(where + ": malformed manifest (" + e.what() + ")");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    if (what.rfind(dir.string(), 0) == 0) throw;
+    throw std::runtime_error(where + ": " + what);
+  }
+}
+
+void AtlasPoseQuery::Query(const BoundaryAtlas& atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
+                           double angle_radius_rad, PoseBoundaryResult* out) noexcept {
+  const Eigen::Vector3d p = X_FM.translation();
+  const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
+  out->dexterous_slice = atlas.FindDexterous(rpy);
+  out->rotational_slice = atlas.FindRotational(p);
+  query_.Query(out->dexterous_slice ? out->dexterous_slice->field.get() : nullptr, p, position_radius_m,
+               &out->translation);
+  query_.Query(out->rotational_slice ? out->rotational_slice->field.get() : nullptr, rpy, angle_radius_rad,
+               &out->rotation);
+}
+
+}  // namespace robossis::geometry

@@ -1,0 +1,236 @@
+// `robossis workspace ...`: workspace slices and their boundary meshes, the boundary atlas, and the signed
+// penetration query against it.
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "geometry/atlas_error.h"
+#include "geometry/boundary_atlas.h"
+#include "src/apps/app_context.h"
+#include "src/apps/workspace_json.h"
+#include "src/core/files.h"
+#include "src/core/parse.h"
+#include "src/core/units.h"
+
+namespace robossis::apps {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+Eigen::Vector3d ParseTriple(const std::string& text, const std::string& option, const std::string& hint,
+                            double to_si) {
+  const std::vector<double> v = ParseNumberList(text, 3, option, hint);
+  return Eigen::Vector3d(v[0], v[1], v[2]) * to_si;
+}
+
+double PositiveResolution(double value, const std::string& option) {
+  if (!std::isfinite(value) || value <= 0) {
+    throw std::invalid_argument(option + ": expected a positive number, got " + std::to_string(value));
+  }
+  return value;
+}
+
+// Writes mesh files and the summary of one slice into the staging folder.
+void WriteSlice(const StagedOutputDir& out, const geometry::WorkspaceSlice& slice, const std::string& stem) {
+  const double s = geometry::EdgeUnitScale(slice.spec.kind);
+  out.Write(stem + ".stl", geometry::BinaryStlBytes(slice.mesh, s));
+  out.Write(stem + ".ply", geometry::BinaryPlyBytes(slice.mesh, s));
+}
+
+void PrintSliceLine(const geometry::WorkspaceSlice& slice) {
+  const double s = geometry::EdgeUnitScale(slice.spec.kind);
+  const std::string u = geometry::EdgeUnitName(slice.spec.kind);
+  const Eigen::Vector3d size = (slice.stats.max - slice.stats.min) * s;
+  std::printf("%s: volume %.6g %s^3, extents %.2f x %.2f x %.2f %s, %zu triangles, watertight %s, outward %s, "
+              "%.3f s\n",
+              geometry::ToString(slice.spec.kind), slice.stats.volume * s * s * s, u.c_str(), size.x(), size.y(),
+              size.z(), u.c_str(), slice.stats.triangles, slice.stats.watertight ? "yes" : "no",
+              slice.stats.outward ? "yes" : "no", slice.seconds_grid + slice.seconds_mesh);
+}
+
+class ProgressBar {
+ public:
+  void operator()(int done, int total) const {
+    const int width = 40, filled = total > 0 ? width * done / total : width;
+    std::fprintf(stderr, "\r[%s%s] %d/%d slices", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total);
+    if (done == total) std::fprintf(stderr, "\n");
+  }
+};
+
+}  // namespace
+
+void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
+  CLI::App* ws = app.add_subcommand("workspace", "Workspace slices, boundary meshes, boundary atlas, penetration query");
+  ws->require_subcommand(1);
+
+  // dexterous
+  struct DexterousOptions {
+    std::string rpy = "0,0,0", out;
+    double resolution_mm = 2;
+  };
+  auto dex = std::make_shared<DexterousOptions>();
+  CLI::App* d = ws->add_subcommand("dexterous", "RSR dexterous workspace (positions of P in F) at a fixed orientation\n"
+                                                "Example: robossis workspace dexterous --rpy-deg 0,0,0 --resolution-mm 2 --out dex");
+  d->add_option("--rpy-deg", dex->rpy, "Fixed orientation ROLL_DEG,PITCH_DEG,YAW_DEG")->capture_default_str();
+  d->add_option("--resolution-mm", dex->resolution_mm, "Grid spacing (mm)")->capture_default_str();
+  d->add_option("--out", dex->out, "Output folder: mesh.stl, mesh.ply (mm), summary.json")->required();
+  d->callback([&context, dex] {
+    geometry::SliceSpec spec;
+    spec.kind = geometry::SliceKind::kRsrDexterous;
+    spec.fixed = ParseTriple(dex->rpy, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG", kDegToRad);
+    spec.resolution = MmToM(PositiveResolution(dex->resolution_mm, "--resolution-mm"));
+    StagedOutputDir out(dex->out);
+    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(context.LoadRsr(), context.LoadSigma7(), spec);
+    WriteSlice(out, slice, "mesh");
+    out.Write("summary.json", SliceSummaryJson(slice).dump(2) + "\n");
+    out.Commit();
+    PrintSliceLine(slice);
+  });
+
+  // rotational
+  struct RotationalOptions {
+    std::string position, out;
+    double resolution_deg = 1;
+  };
+  auto rot = std::make_shared<RotationalOptions>();
+  CLI::App* r = ws->add_subcommand("rotational", "RSR rotational workspace (roll, pitch, yaw) at a fixed position\n"
+                                                 "Example: robossis workspace rotational --position-mm 0,0,284 --resolution-deg 1 --out rot");
+  r->add_option("--position-mm", rot->position, "Fixed position X_MM,Y_MM,Z_MM of P in F (default: home)");
+  r->add_option("--resolution-deg", rot->resolution_deg, "Grid spacing (deg)")->capture_default_str();
+  r->add_option("--out", rot->out, "Output folder: mesh.stl, mesh.ply (deg), summary.json")->required();
+  r->callback([&context, rot] {
+    const robot::RsrModel rsr = context.LoadRsr();
+    geometry::SliceSpec spec;
+    spec.kind = geometry::SliceKind::kRsrRotational;
+    spec.fixed = rot->position.empty() ? Eigen::Vector3d(rsr.geometry().X_FM_home.translation())
+                                       : ParseTriple(rot->position, "--position-mm", "X_MM,Y_MM,Z_MM", kMmToM);
+    spec.resolution = DegToRad(PositiveResolution(rot->resolution_deg, "--resolution-deg"));
+    StagedOutputDir out(rot->out);
+    const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, context.LoadSigma7(), spec);
+    WriteSlice(out, slice, "mesh");
+    out.Write("summary.json", SliceSummaryJson(slice).dump(2) + "\n");
+    out.Commit();
+    PrintSliceLine(slice);
+  });
+
+  // hc
+  struct HcOptions {
+    std::string out;
+    double resolution_mm = 3, resolution_deg = 3;
+  };
+  auto hc = std::make_shared<HcOptions>();
+  CLI::App* h = ws->add_subcommand("hc", "sigma.7 workspaces: delta translation (cone-like) and wrist box\n"
+                                         "Example: robossis workspace hc --out hc");
+  h->add_option("--resolution-mm", hc->resolution_mm, "Grid spacing of the translation slice (mm)")->capture_default_str();
+  h->add_option("--resolution-deg", hc->resolution_deg, "Grid spacing of the wrist slice (deg)")->capture_default_str();
+  h->add_option("--out", hc->out, "Output folder: translation.{stl,ply} (mm), wrist.{stl,ply} (deg), summary.json")
+      ->required();
+  h->callback([&context, hc] {
+    const robot::RsrModel rsr = context.LoadRsr();
+    const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    geometry::SliceSpec t{geometry::SliceKind::kHcTranslation, Eigen::Vector3d::Zero(),
+                          MmToM(PositiveResolution(hc->resolution_mm, "--resolution-mm"))};
+    geometry::SliceSpec w{geometry::SliceKind::kHcWrist, Eigen::Vector3d::Zero(),
+                          DegToRad(PositiveResolution(hc->resolution_deg, "--resolution-deg"))};
+    StagedOutputDir out(hc->out);
+    const geometry::WorkspaceSlice translation = geometry::GenerateSlice(rsr, sigma7, t);
+    const geometry::WorkspaceSlice wrist = geometry::GenerateSlice(rsr, sigma7, w);
+    WriteSlice(out, translation, "translation");
+    WriteSlice(out, wrist, "wrist");
+    // The keys at the top level describe the translation slice; both slices are under "slices".
+    json summary = SliceSummaryJson(translation);
+    summary["slices"] = {{"translation", SliceSummaryJson(translation)}, {"wrist", SliceSummaryJson(wrist)}};
+    out.Write("summary.json", summary.dump(2) + "\n");
+    out.Commit();
+    PrintSliceLine(translation);
+    PrintSliceLine(wrist);
+  });
+
+  // atlas
+  struct AtlasOptions {
+    std::string out;
+    bool coarse = false;
+    int error_samples = 40;
+  };
+  auto at = std::make_shared<AtlasOptions>();
+  CLI::App* a = ws->add_subcommand("atlas", "Precompute the boundary atlas (dexterous slices over orientations, "
+                                            "rotational slices over positions)\n"
+                                            "Example: robossis workspace atlas --out atlas");
+  a->add_option("--out", at->out, "Atlas folder (built in a staging folder and moved in whole)")->required();
+  a->add_flag("--coarse", at->coarse, "A small, coarse atlas (seconds; for tests and trials)");
+  a->add_option("--error-samples", at->error_samples,
+                "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip)")
+      ->capture_default_str();
+  a->callback([&context, at] {
+    if (at->error_samples < 0) throw std::invalid_argument("--error-samples: expected >= 0");
+    const robot::RsrModel rsr = context.LoadRsr();
+    const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    const geometry::AtlasSpec spec = at->coarse ? geometry::AtlasSpec::Coarse(rsr) : geometry::AtlasSpec::Default(rsr);
+    const geometry::BoundaryAtlas atlas = geometry::BuildAtlas(rsr, sigma7, spec, at->out, ProgressBar{});
+    std::printf("atlas: %zu dexterous and %zu rotational slices in %s\n", atlas.dexterous().size(),
+                atlas.rotational().size(), at->out.c_str());
+    if (at->error_samples > 0) {
+      std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", at->error_samples);
+      geometry::AtlasErrorOptions options;
+      options.samples = at->error_samples;
+      const json err = AtlasErrorJson(geometry::MeasureAtlasError(rsr, sigma7, atlas, options));
+      WriteFileAtomically(std::filesystem::path(at->out) / "atlas_error.json", err.dump(2) + "\n");
+      std::printf("grid-spacing error (off-grid poses): dexterous p95 %.3f mm, max %.3f mm; rotational p95 %.3f "
+                  "deg, max %.3f deg (atlas_error.json)\n",
+                  err["dexterous_mm"]["off_grid"]["p95"].get<double>(), err["dexterous_mm"]["off_grid"]["max"].get<double>(),
+                  err["rotational_deg"]["off_grid"]["p95"].get<double>(),
+                  err["rotational_deg"]["off_grid"]["max"].get<double>());
+    }
+  });
+
+  // query
+  struct QueryOptions {
+    std::string atlas, pose;
+    double radius_mm = 0, radius_deg = 0;
+    bool json_out = false;
+  };
+  auto qo = std::make_shared<QueryOptions>();
+  CLI::App* q = ws->add_subcommand("query", "Signed penetration of a pose against the atlas (positive inside)\n"
+                                            "Example: robossis workspace query --atlas atlas --pose 10,0,290,0,5,0 --json");
+  q->add_option("--atlas", qo->atlas, "Atlas folder written by `workspace atlas`")->required();
+  q->add_option("--pose", qo->pose, "X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG of the moving ring in F")->required();
+  q->add_option("--radius-mm", qo->radius_mm, "Radius of the query sphere in position (mm)")->capture_default_str();
+  q->add_option("--radius-deg", qo->radius_deg, "Radius of the query sphere in RPY space (deg)")->capture_default_str();
+  q->add_flag("--json", qo->json_out, "Machine-readable output");
+  q->callback([qo] {
+    const Eigen::Isometry3d X_FM = ParsePoseMmDeg(qo->pose, "--pose");
+    if (!(qo->radius_mm >= 0) || !(qo->radius_deg >= 0)) {
+      throw std::invalid_argument("--radius-mm/--radius-deg: expected a number >= 0");
+    }
+    const geometry::BoundaryAtlas atlas = geometry::BoundaryAtlas::Load(qo->atlas);
+    geometry::AtlasPoseQuery query;
+    geometry::PoseBoundaryResult r;
+    query.Query(atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg), &r);
+    auto triple = [](const Eigen::Vector3d& v, double s) { return json::array({v.x() * s, v.y() * s, v.z() * s}); };
+    const bool t_ok = r.translation.status == geometry::QueryStatus::kOk;
+    const bool r_ok = r.rotation.status == geometry::QueryStatus::kOk;
+    json doc;
+    doc["signed_distance_mm"] = t_ok ? json(r.translation.signed_distance * kMToMm) : json(nullptr);
+    doc["signed_angle_deg"] = r_ok ? json(r.rotation.signed_distance * kRadToDeg) : json(nullptr);
+    doc["normal"] = t_ok ? triple(r.translation.normal, 1.0) : json(nullptr);
+    doc["nearest_mm"] = t_ok ? triple(r.translation.nearest, kMToMm) : json(nullptr);
+    doc["angle_normal"] = r_ok ? triple(r.rotation.normal, 1.0) : json(nullptr);
+    doc["nearest_rpy_deg"] = r_ok ? triple(r.rotation.nearest, kRadToDeg) : json(nullptr);
+    doc["dexterous_slice_rpy_deg"] = r.dexterous_slice ? triple(r.dexterous_slice->fixed, kRadToDeg) : json(nullptr);
+    doc["rotational_slice_position_mm"] =
+        r.rotational_slice ? triple(r.rotational_slice->fixed, kMToMm) : json(nullptr);
+    doc["status"] = {{"translation", geometry::ToString(r.translation.status)},
+                     {"rotation", geometry::ToString(r.rotation.status)}};
+    if (qo->json_out) {
+      PrintJson(doc);
+    } else {
+      for (const auto& [key, value] : doc.items()) std::cout << key << ": " << value.dump() << "\n";
+    }
+  });
+}
+
+}  // namespace robossis::apps

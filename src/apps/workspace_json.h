@@ -1,0 +1,19 @@
+#pragma once
+// JSON summaries of workspace slices and atlas errors, shared by `robossis workspace` and the demo report.
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/atlas_error.h"
+#include "geometry/workspace_slice.h"
+
+namespace robossis::apps {
+
+// summary.json of one slice: volume, extents, triangles, watertight (the keys) plus units and details.
+// Edge units: mm (mm^3) for position slices, deg (deg^3) for angle slices.
+nlohmann::ordered_json SliceSummaryJson(const geometry::WorkspaceSlice& slice);
+
+
+nlohmann::ordered_json ErrorStatsJson(const geometry::ErrorStats& s, double scale);
+nlohmann::ordered_json AtlasErrorJson(const geometry::AtlasErrorReport& report);
+
+}  // namespace robossis::apps

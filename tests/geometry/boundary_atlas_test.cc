@@ -1,0 +1,141 @@
+// The boundary atlas: build, load, look up, reject corrupt folders.
+
+#include "geometry/boundary_atlas.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "src/core/files.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::geometry {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtlasTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("robossis_atlas_test_" + std::to_string(::getpid())));
+    fs::remove_all(*dir_);
+    const robot::RsrModel rsr = robot::RsrModel::Default();
+    const robot::Sigma7Model hc = robot::Sigma7Model::Default();
+    built_ = new BoundaryAtlas(BuildAtlas(rsr, hc, AtlasSpec::Coarse(rsr), *dir_));
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete built_;
+    delete dir_;
+  }
+  // A copy of the atlas to damage.
+  fs::path Copy(const std::string& name) const {
+    const fs::path copy = dir_->string() + "_" + name;
+    fs::remove_all(copy);
+    fs::copy(*dir_, copy, fs::copy_options::recursive);
+    return copy;
+  }
+  static fs::path* dir_;
+  static BoundaryAtlas* built_;
+};
+fs::path* AtlasTest::dir_ = nullptr;
+BoundaryAtlas* AtlasTest::built_ = nullptr;
+
+std::string LoadError(const fs::path& dir) {
+  try {
+    BoundaryAtlas::Load(dir);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(AtlasTest, LoadsWhatWasBuilt) {
+  const BoundaryAtlas atlas = BoundaryAtlas::Load(*dir_);
+  ASSERT_EQ(atlas.dexterous().size(), built_->dexterous().size());
+  ASSERT_EQ(atlas.rotational().size(), built_->rotational().size());
+  EXPECT_GT(atlas.dexterous().size(), 0u);
+  EXPECT_GT(atlas.rotational().size(), 0u);
+  for (std::size_t i = 0; i < atlas.dexterous().size(); ++i) {
+    EXPECT_EQ(atlas.dexterous()[i].field->mesh().triangles, built_->dexterous()[i].field->mesh().triangles);
+    EXPECT_NEAR(atlas.dexterous()[i].field->stats().volume, built_->dexterous()[i].field->stats().volume, 1e-12);
+  }
+  EXPECT_FALSE(fs::exists(dir_->string() + ".partial-" + std::to_string(::getpid())));
+}
+
+TEST_F(AtlasTest, LookupReturnsTheNearestNode) {
+  // Coarse orientation grid: roll -10, 0, 10 deg; yaw -20, 0, 20 deg.
+  const AtlasSlice* s = built_->FindDexterous({DegToRad(6), DegToRad(3), DegToRad(-12)});
+  ASSERT_NE(s, nullptr);
+  EXPECT_NEAR(s->fixed.x(), DegToRad(10), 1e-12);
+  EXPECT_NEAR(s->fixed.y(), 0, 1e-12);
+  EXPECT_NEAR(s->fixed.z(), DegToRad(-20), 1e-12);
+  // Outside the grid: clamped to the edge node.
+  const AtlasSlice* far = built_->FindDexterous({DegToRad(60), 0, 0});
+  ASSERT_NE(far, nullptr);
+  EXPECT_NEAR(far->fixed.x(), DegToRad(10), 1e-12);
+}
+
+TEST_F(AtlasTest, PoseQueryIsInsideAtHomeAndAllocatesNothing) {
+  const robot::RsrModel rsr = robot::RsrModel::Default();
+  AtlasPoseQuery query;
+  PoseBoundaryResult r;
+  query.Query(*built_, rsr.geometry().X_FM_home, 0.0, 0.0, &r);  // warm-up
+  robossis::testing::AllocationCounter counter;
+  query.Query(*built_, rsr.geometry().X_FM_home, 0.001, DegToRad(0.5), &r);
+  EXPECT_EQ(counter.count(), 0u);
+  ASSERT_EQ(r.translation.status, QueryStatus::kOk);
+  ASSERT_EQ(r.rotation.status, QueryStatus::kOk);
+  EXPECT_GT(r.translation.signed_distance, 0.03);   // home is deep inside (DESIGN.md §4: +/-70 mm in z)
+  EXPECT_GT(r.rotation.signed_distance, DegToRad(10));
+}
+
+TEST_F(AtlasTest, MissingManifestIsRejected) {
+  const fs::path d = Copy("nomanifest");
+  fs::remove(d / "manifest.json");
+  EXPECT_NE(LoadError(d).find("manifest.json"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST_F(AtlasTest, TruncatedMeshIsRejectedNamingTheFile) {
+  const fs::path d = Copy("truncated");
+  const fs::path mesh = d / "dexterous" / "d_0_0_0.ply";
+  fs::resize_file(mesh, fs::file_size(mesh) / 2);
+  const std::string error = LoadError(d);
+  EXPECT_NE(error.find("d_0_0_0.ply"), std::string::npos) << error;
+  fs::remove_all(d);
+}
+
+TEST_F(AtlasTest, CorruptManifestIsRejected) {
+  const fs::path d = Copy("badjson");
+  WriteFileAtomically(d / "manifest.json", "{\"format\": \"robossis-boundary-atlas\", \"version\": 1, ");
+  EXPECT_NE(LoadError(d).find("malformed"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST_F(AtlasTest, FlippedByteIsDetected) {
+  const fs::path d = Copy("flipped");
+  const fs::path mesh = d / "rotational" / "r_0_0_0.ply";
+  std::string bytes = ReadTextFile(mesh);
+  bytes[bytes.size() / 2] ^= 0x10;
+  WriteFileAtomically(mesh, bytes);
+  EXPECT_NE(LoadError(d).find("hash"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST(AtlasSpecTest, InvalidGridIsRejected) {
+  AtlasSpec s = AtlasSpec::Coarse(robot::RsrModel::Default());
+  s.orientation_grid[0].step = 0;
+  EXPECT_THROW(s.Validate(), std::invalid_argument);
+  s = AtlasSpec::Coarse(robot::RsrModel::Default());
+  s.dexterous_resolution_m = -1;
+  EXPECT_THROW(s.Validate(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace robossis::geometry

@@ -1,0 +1,146 @@
+// The FCL signed penetration query.
+
+#include "geometry/signed_distance.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "geometry/atlas_error.h"
+#include "geometry/reference_distance.h"
+#include "geometry/workspace_slice.h"
+#include "src/core/units.h"
+#include "tests/geometry/test_meshes.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::geometry {
+namespace {
+
+TEST(SignedDistanceTest, BoxDistancesMatchTheAnalyticValues) {
+  const BoundaryDistanceField field(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
+  SignedDistanceQuery query;
+  SignedDistanceResult r;
+  // Inside, nearest face x = 1: distance 0.5 inside, outward normal +x.
+  ASSERT_EQ(query.Query(&field, {0.5, 0.1, -0.2}, 0.0, &r), QueryStatus::kOk);
+  EXPECT_NEAR(r.signed_distance, 0.5, 1e-12);
+  EXPECT_TRUE(r.normal.isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  EXPECT_TRUE(r.nearest.isApprox(Eigen::Vector3d(1, 0.1, -0.2), 1e-12));
+  // Outside beyond an edge: distance sqrt(0.5^2 + 0.5^2), penetration = negative.
+  query.Query(&field, {1.5, 1.5, 0}, 0.0, &r);
+  EXPECT_NEAR(r.signed_distance, -std::sqrt(0.5), 1e-12);
+  EXPECT_TRUE(r.normal.isApprox(Eigen::Vector3d(1, 1, 0).normalized(), 1e-12));
+  // Outside beyond a vertex.
+  query.Query(&field, {2, 2, 2}, 0.0, &r);
+  EXPECT_NEAR(r.signed_distance, -std::sqrt(3.0), 1e-12);
+}
+
+TEST(SignedDistanceTest, SphereRadiusIsSubtracted) {
+  const BoundaryDistanceField field(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
+  SignedDistanceQuery query;
+  SignedDistanceResult r;
+  query.Query(&field, {0.9, 0, 0}, 0.3, &r);
+  EXPECT_NEAR(r.signed_distance, 0.1 - 0.3, 1e-12);  // the sphere sticks out by 0.2
+  EXPECT_TRUE(r.inside);
+}
+
+TEST(SignedDistanceTest, SignAgreesWithTheSphereOnRandomPoints) {
+  // Icosphere of radius 1 (vertices on the sphere): inside exactly when |q| < 1 away from the chord gap.
+  const BoundaryDistanceField field(testing::IcoSphere(3, 1.0));
+  SignedDistanceQuery query;
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1.6, 1.6);
+  int wrong = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const Eigen::Vector3d q(u(gen), u(gen), u(gen));
+    if (std::abs(q.norm() - 1.0) < 0.02) continue;  // chord error of level-3 icosphere < 0.02
+    SignedDistanceResult r;
+    query.Query(&field, q, 0.0, &r);
+    wrong += (r.signed_distance > 0) != (q.norm() < 1.0) ? 1 : 0;
+    EXPECT_NEAR(r.signed_distance, 1.0 - q.norm(), 0.02);
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(SignedDistanceTest, BadInputsGiveAStatus) {
+  const BoundaryDistanceField field(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
+  SignedDistanceQuery query;
+  SignedDistanceResult r;
+  EXPECT_EQ(query.Query(nullptr, {0, 0, 0}, 0.0, &r), QueryStatus::kNoField);
+  EXPECT_EQ(query.Query(&field, {std::nan(""), 0, 0}, 0.0, &r), QueryStatus::kNonFinite);
+  EXPECT_EQ(query.Query(&field, {0, 0, 0}, -1.0, &r), QueryStatus::kNonFinite);
+}
+
+TEST(SignedDistanceTest, OpenMeshIsRejected) {
+  TriangleMesh open = testing::BoxMesh({-1, -1, -1}, {1, 1, 1});
+  open.triangles.pop_back();
+  EXPECT_THROW(BoundaryDistanceField field(open), std::invalid_argument);
+}
+
+TEST(SignedDistanceTest, QueryAllocatesNothing) {
+  const BoundaryDistanceField field(testing::IcoSphere(3, 1.0));
+  SignedDistanceQuery query;
+  SignedDistanceResult r;
+  query.Query(&field, {0.1, 0.2, 0.3}, 0.0, &r);  // warm-up
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  std::vector<Eigen::Vector3d> points;
+  for (int n = 0; n < 200; ++n) points.emplace_back(u(gen), u(gen), u(gen));
+  robossis::testing::AllocationCounter counter;
+  for (const Eigen::Vector3d& q : points) query.Query(&field, q, 0.001, &r);
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+class SliceQueryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    slice_ = GenerateSlice(rsr_, hc_, {SliceKind::kRsrDexterous, {0, DegToRad(5), DegToRad(10)}, 0.006});
+  }
+  robot::RsrModel rsr_ = robot::RsrModel::Default();
+  robot::Sigma7Model hc_ = robot::Sigma7Model::Default();
+  WorkspaceSlice slice_;
+};
+
+TEST_F(SliceQueryTest, SignAgreesWithIkOnRandomPointsNearTheBoundary) {
+  const BoundaryDistanceField field(slice_.mesh);
+  const SliceFeasibility f(rsr_, hc_, slice_.spec.kind, slice_.spec.fixed);
+  SignedDistanceQuery query;
+  std::mt19937 gen{42};
+  std::uniform_int_distribution<std::size_t> pick(0, slice_.mesh.vertices.size() - 1);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  int tested = 0, wrong = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const Eigen::Vector3d q = slice_.mesh.vertices[pick(gen)] + Eigen::Vector3d(u(gen), u(gen), u(gen));
+    SignedDistanceResult r;
+    query.Query(&field, q, 0.0, &r);
+    if (std::abs(r.signed_distance) < slice_.spec.resolution) continue;  // the mesh's chord band
+    ++tested;
+    wrong += (r.signed_distance > 0) != f(q) ? 1 : 0;
+  }
+  EXPECT_GT(tested, 1000);
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST_F(SliceQueryTest, AgreesWithTheIndependentReferenceDistance) {
+  // The reference uses only IK (ray casting + local minimisation), never the mesh.
+  const ErrorStats e = MeasureSliceError(rsr_, hc_, slice_, 15, 42);
+  EXPECT_EQ(e.samples + e.not_found, 15);
+  EXPECT_GE(e.samples, 12);
+  EXPECT_LT(e.p50, 0.5e-3);  // the mesh error of a 6 mm grid: chord error (README, "Accuracy")
+  EXPECT_LT(e.max, 3e-3);
+}
+
+TEST(ReferenceDistanceTest, MatchesTheAnalyticSphere) {
+  const FeasibilityFn ball = [](const Eigen::Vector3d& q) { return q.norm() <= 0.05; };
+  ReferenceDistanceOptions o;
+  o.max_distance = 0.1;
+  o.directions = 200;
+  const ReferenceDistanceResult in = ComputeReferenceSignedDistance(ball, {0.01, 0.02, 0}, o);
+  ASSERT_TRUE(in.found);
+  EXPECT_NEAR(in.signed_distance, 0.05 - std::hypot(0.01, 0.02), 1e-6);
+  const ReferenceDistanceResult out = ComputeReferenceSignedDistance(ball, {0.07, 0, 0}, o);
+  EXPECT_NEAR(out.signed_distance, -0.02, 1e-6);
+}
+
+}  // namespace
+}  // namespace robossis::geometry

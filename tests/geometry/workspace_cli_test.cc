@@ -1,0 +1,112 @@
+// `robossis workspace ...` as a user meets it.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+CommandRun Robossis(const std::string& args, bool with_stderr = true) {
+  const std::string command = std::string(ROBOSSIS_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+  CommandRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class WorkspaceCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("robossis_ws_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Dir(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+nlohmann::json ReadJson(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+TEST_F(WorkspaceCliTest, DexterousWritesMeshesAndSummary) {
+  const CommandRun run = Robossis("workspace dexterous --rpy-deg 0,5,0 --resolution-mm 10 --out " + Dir("dex"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json s = ReadJson(Dir("dex") + "/summary.json");
+  for (const char* key : {"volume", "extents", "triangles", "watertight"}) EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_TRUE(s["watertight"].get<bool>());
+  EXPECT_GT(s["volume"].get<double>(), 1e5);  // mm^3
+  EXPECT_TRUE(fs::file_size(Dir("dex") + "/mesh.stl") == 84 + 50 * s["triangles"].get<std::size_t>());
+  EXPECT_TRUE(fs::exists(Dir("dex") + "/mesh.ply"));
+}
+
+TEST_F(WorkspaceCliTest, RotationalAndHcWriteSummaries) {
+  ASSERT_EQ(Robossis("workspace rotational --position-mm 0,0,284 --resolution-deg 4 --out " + Dir("rot")).exit_code, 0);
+  EXPECT_TRUE(ReadJson(Dir("rot") + "/summary.json")["watertight"].get<bool>());
+  ASSERT_EQ(Robossis("workspace hc --resolution-mm 10 --resolution-deg 10 --out " + Dir("hc")).exit_code, 0);
+  const nlohmann::json s = ReadJson(Dir("hc") + "/summary.json");
+  EXPECT_TRUE(s["slices"]["wrist"]["watertight"].get<bool>());
+  EXPECT_TRUE(s["watertight"].get<bool>());
+}
+
+TEST_F(WorkspaceCliTest, BadResolutionIsAOneLineErrorAndWritesNothing) {
+  for (const std::string bad : {"0", "-2", "abc"}) {
+    const CommandRun run = Robossis("workspace dexterous --resolution-mm " + bad + " --out " + Dir("bad"));
+    EXPECT_NE(run.exit_code, 0);
+    EXPECT_NE(run.output.find("resolution"), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(Dir("bad")));
+  }
+}
+
+TEST_F(WorkspaceCliTest, UnreachableOrientationIsAClearError) {
+  const CommandRun run = Robossis("workspace dexterous --rpy-deg 80,0,0 --resolution-mm 10 --out " + Dir("x"));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.output.find("empty"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(Dir("x")));
+}
+
+TEST_F(WorkspaceCliTest, AtlasThenQueryJson) {
+  ASSERT_EQ(Robossis("workspace atlas --coarse --error-samples 0 --out " + Dir("atlas")).exit_code, 0);
+  const CommandRun run = Robossis("workspace query --atlas " + Dir("atlas") + " --pose 0,0,284,0,0,0 --json", false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json q = nlohmann::json::parse(run.output);
+  EXPECT_GT(q["signed_distance_mm"].get<double>(), 0);
+  EXPECT_GT(q["signed_angle_deg"].get<double>(), 0);
+  EXPECT_EQ(q["normal"].size(), 3u);
+  EXPECT_EQ(q["nearest_mm"].size(), 3u);
+  // Far outside: negative.
+  const nlohmann::json out = nlohmann::json::parse(
+      Robossis("workspace query --atlas " + Dir("atlas") + " --pose 0,0,500,0,0,0 --json", false).output);
+  EXPECT_LT(out["signed_distance_mm"].get<double>(), -100);
+}
+
+TEST_F(WorkspaceCliTest, QueryOfACorruptAtlasFails) {
+  fs::create_directories(Dir("notatlas"));
+  const CommandRun run = Robossis("workspace query --atlas " + Dir("notatlas") + " --pose 0,0,284,0,0,0 --json");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.output.find("manifest.json"), std::string::npos) << run.output;
+}
+
+}  // namespace
