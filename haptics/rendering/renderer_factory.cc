@@ -2,17 +2,19 @@
 
 #include <stdexcept>
 
+#include "haptics/rendering/mesh_wall_renderer.h"
 #include "haptics/rendering/point_cloud_renderer.h"
 #include "haptics/rendering/proxy_renderer.h"
 
 namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods() {
-  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "proxy", "proxy-safe", "proxy-pc"};
+  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "proxy", "proxy-safe", "proxy-pc"};
 }
 
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
-                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz) {
+                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas) {
   PassivityParams passive = config.passivity;
   passive.enabled = true;
   std::unique_ptr<HapticRenderer> r;
@@ -26,6 +28,13 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
     r = std::make_unique<PointCloudRenderer>(model, map, config.limits, rate_hz, config.wall, config.cloud,
                                              "pointcloud-pc");
     r->SetPassivity(passive);
+  } else if (method == "mesh") {
+    if (!atlas) {
+      throw std::invalid_argument("method 'mesh' needs a boundary atlas (build one with `robossis workspace atlas "
+                                  "--out DIR` and pass --atlas DIR)");
+    }
+    r = std::make_unique<MeshWallRenderer>(model, map, config.limits, rate_hz, config.wall,
+                                           config.cloud.moving_average_window, std::move(atlas), "mesh");
   } else if (method == "proxy") {
     r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.proxy, "proxy");
   } else if (method == "proxy-safe") {

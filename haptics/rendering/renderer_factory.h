@@ -8,12 +8,13 @@
 //   proxy-safe       ours with the device-safe preset
 //   proxy-pc         ours, device-safe preset, with the passivity observer + controller
 //   mesh             the paper's spring-damper law on the FCL signed penetration against the boundary atlas
-//                    (available only when the geometry module provides the atlas; see README)
+//                    (needs an atlas: `robossis workspace atlas --out DIR`)
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "geometry/boundary_atlas.h"
 #include "haptics/haptics_config.h"
 #include "haptics/rendering/haptic_types.h"
 
@@ -21,8 +22,9 @@ namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods();
 
-// Throws std::invalid_argument naming the method and listing the known ones.
+// Throws std::invalid_argument naming the method and listing the known ones. `atlas` is needed by "mesh" only.
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
-                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz);
+                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr);
 
 }  // namespace robossis::haptics

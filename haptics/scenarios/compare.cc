@@ -51,6 +51,7 @@ HandTarget TargetAt(const Episode& e, const HcToRsrMap& map, double t) {
 
 MethodRun RunMethod(const Scenario& scenario, const std::string& method, const HapticsConfig& config,
                     const robot::RsrModel& rsr, const robot::Sigma7Model& sigma7, const CompareSettings& settings,
+                    std::shared_ptr<const geometry::BoundaryAtlas> atlas,
                     const std::function<void(double)>& progress) {
   MethodRun run;
   run.method = method;
@@ -59,7 +60,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
   map.scale = config.mapping_scale;
   map.X_OH_anchor = Eigen::Isometry3d::Identity();
   map.X_OH_anchor.translation() = sigma7.p_center_O();
-  std::unique_ptr<HapticRenderer> renderer = MakeRenderer(method, config, rsr, map, settings.rate_hz);
+  std::unique_ptr<HapticRenderer> renderer = MakeRenderer(method, config, rsr, map, settings.rate_hz, std::move(atlas));
   SimulatedSigma7 device(sigma7, config.device, config.hand);
 
   std::vector<double> tick_us, direction_errors, force_errors, torque_errors;

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/boundary_atlas.h"
 #include "haptics/haptics_config.h"
 #include "haptics/scenarios/scenario.h"
 
@@ -76,6 +77,7 @@ struct CompareSettings {
 // Runs one method over every episode of the scenario in closed loop. `progress` (optional) gets a fraction in [0, 1].
 MethodRun RunMethod(const Scenario& scenario, const std::string& method, const HapticsConfig& config,
                     const robot::RsrModel& rsr, const robot::Sigma7Model& sigma7, const CompareSettings& settings,
+                    std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr,
                     const std::function<void(double)>& progress = {});
 
 // Output formats.

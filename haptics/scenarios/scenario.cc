@@ -168,7 +168,7 @@ Scenario MakeScenario(const std::string& name, const robot::RsrModel& model, con
     s.episodes.push_back(MakeSlide(model, "slide-xy", x, y, false, scale * MmToM(10), scale * MmToM(8), MmToM(10),
                                    fast ? 0.2 : 1.0, hand));
     s.episodes.push_back(MakeSlide(model, "slide-tilt", x, y, true, scale * DegToRad(2), scale * DegToRad(3),
-                                   DegToRad(1), fast ? 0.3 : 3.0, hand));
+                                   DegToRad(1), fast ? 0.3 : 1.6, hand));
   } else if (name == "strike") {
     HandParams firm = hand;
     firm.stiffness_n_per_m = strike_stiffness_n_per_m;

@@ -1,5 +1,6 @@
 // `robossis render-compare`: haptic rendering methods side by side on the same closed-loop motion (issue 4).
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -46,6 +47,24 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   RenderCompareResult result;
   result.scenario = haptics::MakeScenario(request.scenario, rsr, config.hand, config.strike_hand_stiffness_n_per_m,
                                           request.fast);
+  if (std::find(request.methods.begin(), request.methods.end(), "mesh") != request.methods.end()) {
+    if (request.atlas) {
+      result.atlas = request.atlas;
+      result.atlas_source = "reused";
+    } else if (!request.atlas_dir.empty()) {
+      result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BoundaryAtlas::Load(request.atlas_dir));
+      result.atlas_source = "loaded from " + request.atlas_dir;
+    } else {
+      const geometry::AtlasSpec spec =
+          request.fast ? geometry::AtlasSpec::Coarse(rsr) : geometry::AtlasSpec::Default(rsr);
+      progress(std::string("render-compare: building the ") + (request.fast ? "coarse" : "default") +
+               " boundary atlas for the mesh method (pass --atlas DIR to reuse one)");
+      const std::filesystem::path dir = out.Path(request.prefix + "atlas");
+      result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BuildAtlas(rsr, sigma7, spec, dir));
+      result.atlas_source = std::string("built (") + (request.fast ? "AtlasSpec::Coarse" : "AtlasSpec::Default") +
+                            ") into " + request.prefix + "atlas/";
+    }
+  }
   haptics::CompareSettings settings;
   settings.rate_hz = request.rate_hz;
   settings.trace_decimation = std::max(1, request.trace_decimation);
@@ -53,7 +72,7 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   for (const std::string& method : request.methods) {
     progress("render-compare: " + result.scenario.name + " at " + std::to_string(static_cast<int>(request.rate_hz)) +
              " Hz, method " + method);
-    result.runs.push_back(haptics::RunMethod(result.scenario, method, config, rsr, sigma7, settings));
+    result.runs.push_back(haptics::RunMethod(result.scenario, method, config, rsr, sigma7, settings, result.atlas));
     const std::string trace = request.prefix + "traces/" + method + ".csv";
     out.Write(trace, haptics::TraceCsv(result.runs.back()));
     traces += (traces.empty() ? "" : ",") + out.Path(trace).string();
@@ -94,6 +113,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     bool fast = false;
     bool json = false;
     int trace_decimation = 5;
+    std::string atlas;
   };
   auto options = std::make_shared<Options>();
   for (const std::string& m : haptics::KnownMethods()) options->methods += (options->methods.empty() ? "" : ",") + m;
@@ -109,6 +129,9 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
   cmd->add_option("--trace-decimation", options->trace_decimation, "Keep every n-th tick in the traces (the metrics use every tick)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  cmd->add_option("--atlas", options->atlas,
+                  "Boundary atlas folder for the mesh method (robossis workspace atlas --out DIR); built if absent")
+      ->check(CLI::ExistingDirectory);
   cmd->add_flag("--fast", options->fast, "Fewer edges and shorter paths");
   cmd->add_flag("--json", options->json, "Print summary.json to stdout");
   cmd->callback([&context, options] {
@@ -118,6 +141,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     request.rate_hz = options->rate_hz;
     request.fast = options->fast;
     request.trace_decimation = options->trace_decimation;
+    request.atlas_dir = options->atlas;
     StagedOutputDir out(options->out);
     auto figure = [&out](const std::string& script, const std::vector<std::string>& args, const std::string& png,
                          const std::string&) {

@@ -19,6 +19,10 @@ struct RenderCompareRequest {
   bool fast = false;
   int trace_decimation = 1;
   std::string prefix;  // sub-folder inside the output folder ("" or "rendering/push-edges-1000hz/")
+  // Boundary atlas for the mesh method: loaded from atlas_dir if set, else built (coarse with `fast`) into
+  // <out>/<prefix>atlas/ — or reused from `atlas` if already loaded.
+  std::string atlas_dir;
+  std::shared_ptr<const geometry::BoundaryAtlas> atlas;
 };
 
 struct RenderCompareResult {
@@ -28,6 +32,8 @@ struct RenderCompareResult {
   std::string table_markdown;
   std::vector<std::string> figures;  // PNGs written (relative to the output folder)
   std::vector<std::string> figure_failures;
+  std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the atlas used (null if no mesh method)
+  std::string atlas_source;                               // where it came from, for the report
 };
 
 // Splits "a,b,c"; throws std::invalid_argument naming --methods if empty or unknown.
