@@ -21,7 +21,7 @@ struct HapticsConfig {
   PassivityParams passivity;       // enabled per method by the factory
   double mapping_scale = 1.0;
   HandParams hand;
-  double strike_hand_stiffness_n_per_m = 800;
+  double strike_hand_stiffness_n_per_m = 1200;
   DeviceSimParams device;
 
   // Throws std::runtime_error naming the file and key.

@@ -142,10 +142,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
       if (e.is_push) {
         rec.is_push = true;
         rec.push_rotational = e.rotational;
-        const Eigen::Vector3d along =
-            e.rotational ? RotationVector(X_FM.linear() * e.X_FM_reference.linear().transpose())
-                         : Eigen::Vector3d(X_FM.translation() - e.X_FM_reference.translation());
-        const double s = along.dot(e.axis) - e.boundary_s;
+        const double s = SignedDistanceAlongPush(rsr, e, X_FM);
         rec.push_signed = e.rotational ? RadToDeg(s) : MToMm(s);
       }
       const robot::RsrIkResult ik = robot::CalcInverseKinematics(rsr, X_FM);

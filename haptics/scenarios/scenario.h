@@ -2,8 +2,9 @@
 // Scripted motions of the user's hand for the rendering comparison. The hand target is given in RSR space (the
 // commanded ring pose X_FM the hand is heading for); the closed loop maps it to the HC through HcToRsrMap.
 //
-//   push-edges  the paper's Fig. 11: from 10 mm (2°) inside each workspace edge, push at 10 mm/s (1°/s) to 20 mm
-//               (4°) beyond it, hold 1 s, come back. Edges: ±x, ±y, ±z, ±roll, ±pitch, ±yaw about home.
+//   push-edges  the paper's Fig. 11: from 20 mm (6°) inside each workspace edge — beyond the point clouds' reach —
+//               push at 10 mm/s (1°/s) to 20 mm (3°) beyond it, hold 1 s, come back. Edges: ±x, ±y, ±z, ±roll,
+//               ±pitch, ±yaw about home.
 //   explore     the paper's Fig. 12: slide along the translational boundary in the x–y plane at 10 mm/s, pressed
 //               8 mm beyond it, then along the tilt boundary at 1°/s, pressed 3° beyond it.
 //   strike      a fast strike at 100 mm/s into the +x edge, 25 mm beyond, with a firm grip (pop-through).
@@ -58,5 +59,10 @@ Scenario LoadTrajectoryCsv(const std::filesystem::path& file, const HandParams& 
 // infeasible pose, by marching and bisection; `max` if none.
 double ReachAlongAxis(const robot::RsrModel& model, const Eigen::Isometry3d& X_reference, const Eigen::Vector3d& axis,
                       bool rotational, double max);
+
+// Signed distance (m or rad) of X to the true boundary along a push episode's axis, with the OTHER coordinates at
+// X's own values: for a translational push, the reach along the axis is taken at X's orientation (the hand may have
+// turned); for a rotational push, at X's position. Negative inside. Bisection near the episode's boundary_s.
+double SignedDistanceAlongPush(const robot::RsrModel& model, const Episode& episode, const Eigen::Isometry3d& X_FM);
 
 }  // namespace robossis::haptics
