@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kDirectionForceThresholdN = 1.0;     // [assumed] below this the direction is noise
 constexpr double kDirectionTorqueThresholdNm = 0.02;  // [assumed]
+constexpr double kOnsetForceN = 2.0;                  // [assumed] a force the hand clearly feels
+constexpr double kOnsetTorqueNm = 0.05;               // [assumed]
 
 double Percentile(std::vector<double> values, double q) {
   if (values.empty()) return 0;
@@ -78,6 +80,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
     Eigen::Isometry3d X_prev = device.pose();
     Eigen::Vector3d f_prev = Eigen::Vector3d::Zero(), tau_prev = Eigen::Vector3d::Zero();
     bool in_contact = false;
+    bool onset_seen = false;
     double contact_energy = 0, contact_energy_max = 0;
     const long ticks = static_cast<long>(std::floor(e.duration_s * settings.rate_hz));
     for (long k = 0; k < ticks; ++k) {
@@ -111,8 +114,20 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
       rec.tick_us = us;
       rec.penetration_mm = MToMm(TranslationalPenetration(rsr, X_FM));
       rec.penetration_deg = RadToDeg(RotationalPenetration(rsr, X_FM));
-      m.max_penetration_mm = std::max(m.max_penetration_mm, rec.penetration_mm);
-      m.max_penetration_deg = std::max(m.max_penetration_deg, rec.penetration_deg);
+      // The workspace is coupled: a pose beyond a translational edge can also be escaped by turning, and one beyond
+      // a rotational edge by moving (or not at all: the twist limit holds at every position, which the capped
+      // search reports as the cap). Each tick's penetration is therefore attributed to its cheaper escape, with
+      // 15 mm ≡ 5° (the paper's cloud radii, [assumed] as the exchange rate): translation counts toward
+      // max_penetration_mm, rotation toward max_penetration_deg. The traces keep both raw values.
+      if (rec.penetration_mm > 0 || rec.penetration_deg > 0) {
+        const double t_cost = MmToM(rec.penetration_mm) / config.cloud.translation_radius_m;
+        const double r_cost = DegToRad(rec.penetration_deg) / config.cloud.rotation_radius_rad;
+        if (t_cost <= r_cost) {
+          m.max_penetration_mm = std::max(m.max_penetration_mm, rec.penetration_mm);
+        } else {
+          m.max_penetration_deg = std::max(m.max_penetration_deg, rec.penetration_deg);
+        }
+      }
       const bool contact = output.status != HapticStatus::kFree;
       if (contact && output.status != HapticStatus::kFault) {
         if (output.f_O.norm() > kDirectionForceThresholdN) {
@@ -144,6 +159,13 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
         rec.push_rotational = e.rotational;
         const double s = SignedDistanceAlongPush(rsr, e, X_FM);
         rec.push_signed = e.rotational ? RadToDeg(s) : MToMm(s);
+        const bool strong = e.rotational ? output.tau_O.norm() >= kOnsetTorqueNm : output.f_O.norm() >= kOnsetForceN;
+        // Only while pushing in (the first crossing of the threshold), not on the way back.
+        if (strong && !onset_seen) {
+          onset_seen = true;
+          double& onset = e.rotational ? m.wall_onset_deg : m.wall_onset_mm;
+          onset = std::min(onset, rec.push_signed);
+        }
       }
       const robot::RsrIkResult ik = robot::CalcInverseKinematics(rsr, X_FM);
       rec.stroke_mm = ik.joints.d_m * kMToMm;
@@ -237,6 +259,8 @@ nlohmann::ordered_json SummaryJson(const Scenario& scenario, const CompareSettin
     x["torque_direction_error_deg_p95"] = m.torque_direction_error_deg_p95;
     x["max_torque_step_nm"] = m.max_torque_step_nm;
     x["saturation_time_s"] = m.saturation_time_s;
+    x["wall_onset_mm"] = m.wall_onset_mm;
+    x["wall_onset_deg"] = m.wall_onset_deg;
     x["deep_penetration_ticks"] = m.deep_penetration_ticks;
     x["fault_ticks"] = m.fault_ticks;
     methods[r.method] = x;
@@ -250,6 +274,7 @@ std::string MarkdownTable(const std::vector<MethodRun>& runs) {
     const char* header;
     double MethodMetrics::*field;
     int decimals;
+    bool higher_is_better = false;
   };
   const Column columns[] = {
       {"max penetration (mm)", &MethodMetrics::max_penetration_mm, 2},
@@ -258,6 +283,8 @@ std::string MarkdownTable(const std::vector<MethodRun>& runs) {
       {"max force step (N)", &MethodMetrics::max_force_step_n, 3},
       {"max torque step (N·m)", &MethodMetrics::max_torque_step_nm, 4},
       {"time saturated (s)", &MethodMetrics::saturation_time_s, 2},
+      {"wall onset (mm)", &MethodMetrics::wall_onset_mm, 1, true},
+      {"wall onset (deg)", &MethodMetrics::wall_onset_deg, 2, true},
       {"energy generated (J)", &MethodMetrics::energy_generated_j, 5},
       {"tick p50 (µs)", &MethodMetrics::tick_us_p50, 1},
       {"tick p99 (µs)", &MethodMetrics::tick_us_p99, 1},
@@ -272,8 +299,10 @@ std::string MarkdownTable(const std::vector<MethodRun>& runs) {
   char buf[64];
   std::vector<std::string> winners;
   for (const Column& c : columns) {
-    double best = 1e300;
-    for (const MethodRun& r : runs) best = std::min(best, r.metrics.*(c.field));
+    double best = c.higher_is_better ? -1e300 : 1e300;
+    for (const MethodRun& r : runs) {
+      best = c.higher_is_better ? std::max(best, r.metrics.*(c.field)) : std::min(best, r.metrics.*(c.field));
+    }
     std::string names;
     for (const MethodRun& r : runs) {
       std::snprintf(buf, sizeof buf, "%.*f", c.decimals, r.metrics.*(c.field));

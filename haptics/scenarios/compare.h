@@ -4,7 +4,8 @@
 // haptics/rendering/boundary_probe.h), independently of the method:
 //   max_penetration_mm / _deg   how far the commanded RSR pose went beyond the true boundary: distance to the nearest
 //                               feasible position at the same orientation / angle to the nearest feasible orientation
-//                               at the same position
+//                               at the same position; each tick counts toward the cheaper of the two escapes
+//                               (15 mm ≡ 5°), since the coupled workspace can often be re-entered either way
 //   direction_error_deg_p95     angle between the rendered force (torque) and the true inward normal of the tightest
 //                               joint limit at the commanded pose, over ticks in contact with |F| > 1 N (|τ| > 0.02 N·m)
 //   max_force_step_n            largest change of the force vector from one tick to the next (continuity)
@@ -12,6 +13,8 @@
 //   energy_generated_j          energy the wall put into the hand: over each contact episode, the largest value of the
 //                               running integral of F·v + τ·ω (0 for a passive wall), summed over episodes
 //   tick_us_p50/p99/max         wall-clock time of HapticRenderer::Tick
+//   wall_onset_mm / _deg        push scenarios: signed distance to the true boundary where the wall first reached
+//                               2 N (0.05 N·m) — the workspace a method gives up before the true boundary
 
 #include <functional>
 #include <string>
@@ -58,6 +61,11 @@ struct MethodMetrics {
   double saturation_time_s = 0;
   double energy_generated_j = 0;
   double tick_us_p50 = 0, tick_us_p99 = 0, tick_us_max = 0;
+  // Where the wall starts: over push episodes, the most negative signed distance to the true boundary at which
+  // |F| first reached 2 N (|τ| 0.05 N·m) — how much workspace the method gives up before the true boundary
+  // (negative: before it). NaN-free: 0 if no push episode reached the threshold.
+  double wall_onset_mm = 0;
+  double wall_onset_deg = 0;
   int deep_penetration_ticks = 0;
   int fault_ticks = 0;
 };

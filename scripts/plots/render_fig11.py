@@ -40,7 +40,7 @@ def main(argv):
     ax_t.set_title("(b) rotational edges, 1 °/s")
     for ax in (ax_f, ax_t):
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper left")
     if args.title:
         fig.suptitle(args.title)
     fig.tight_layout()

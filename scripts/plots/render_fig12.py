@@ -37,7 +37,7 @@ def main(argv):
     axes[3].set_xlabel("time (s)")
     for ax in axes:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=3)
+        ax.legend(fontsize=7, ncol=3, loc="upper right")
     if args.title:
         fig.suptitle(args.title)
     fig.tight_layout()
