@@ -30,7 +30,10 @@ TEST(Compare, SummaryHasTheIssueKeysForEveryMethod) {
   }
   // The firm-grip strike pushes harder than the 15 N cap: the proxy (a spring from the true boundary) is
   // penetrated; the point cloud starts pushing 15 mm early.
-  EXPECT_GT(runs[1].metrics.max_penetration_mm, 1.0);
+  // (beyond the +x edge the spherical-cone limit can also be escaped by tilting: the penetration is counted in
+  // whichever unit is the cheaper escape, 15 mm ≡ 5°)
+  EXPECT_TRUE(runs[1].metrics.max_penetration_mm > 1.0 || runs[1].metrics.max_penetration_deg > 0.3)
+      << runs[1].metrics.max_penetration_mm << " mm, " << runs[1].metrics.max_penetration_deg << " deg";
   EXPECT_GT(runs[1].metrics.saturation_time_s, 0.0);
   EXPECT_EQ(runs[0].trace.size(), runs[1].trace.size());
   const std::string table = MarkdownTable(runs);
