@@ -25,6 +25,7 @@ struct AppContext {
 void RegisterRobotCommands(CLI::App& app, const AppContext& context);
 void RegisterHcCommands(CLI::App& app, const AppContext& context);
 void RegisterDemoCommand(CLI::App& app, const AppContext& context);
+void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context);
 void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context);
 void RegisterSimCommands(CLI::App& app, const AppContext& context);
 void RegisterMocapCommands(CLI::App& app, const AppContext& context);

@@ -30,5 +30,6 @@ void WriteRobotSection(DemoContext& demo);
 void WriteWorkspaceSection(DemoContext& demo);
 void WriteSimSection(DemoContext& demo);
 void WriteTrackingSection(DemoContext& demo);  // ## 6. Tracking accuracy (calibration/)
+void WriteRenderingSection(DemoContext& demo);
 
 }  // namespace robossis::apps

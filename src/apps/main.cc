@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   apps::RegisterRobotCommands(app, context);
   apps::RegisterHcCommands(app, context);
   apps::RegisterDemoCommand(app, context);
+  apps::RegisterRenderCompareCommand(app, context);
   apps::RegisterWorkspaceCommands(app, context);
   apps::RegisterSimCommands(app, context);
   apps::RegisterMocapCommands(app, context);

@@ -1,0 +1,56 @@
+#include "haptics/haptics_config.h"
+
+#include "src/core/config.h"
+#include "src/core/units.h"
+
+namespace robossis::haptics {
+
+namespace {
+WallLawParams ReadWall(const ConfigNode& node) {
+  WallLawParams w;
+  w.k_f_n_per_m = node.PositiveNumber("k_f_n_per_m");
+  w.c_f_ns_per_m = node.NumberInRange("c_f_ns_per_m", 0, 1e4);
+  w.k_tau_nm_per_rad = node.PositiveNumber("k_tau_nm_per_deg") * kRadToDeg;
+  w.c_tau_nms_per_rad = node.NumberInRange("c_tau_nms_per_deg", 0, 1e3) * kRadToDeg;
+  return w;
+}
+}  // namespace
+
+HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
+  const ConfigNode root = ConfigNode::Load(file);
+  HapticsConfig c;
+  c.wall = ReadWall(root.Child("wall"));
+  c.device_safe_wall = ReadWall(root.Child("device_safe"));
+  const ConfigNode limits = root.Child("limits");
+  c.limits.max_force_n = limits.PositiveNumber("max_force_n");
+  c.limits.max_torque_nm = limits.PositiveNumber("max_torque_nm");
+  const ConfigNode cloud = root.Child("point_cloud");
+  c.cloud.translation_radius_m = MmToM(cloud.PositiveNumber("translation_radius_mm"));
+  c.cloud.rotation_radius_rad = DegToRad(cloud.PositiveNumber("rotation_radius_deg"));
+  c.cloud.translation_points = static_cast<int>(cloud.NumberInRange("translation_points", 2, 100000));
+  c.cloud.rotation_points = static_cast<int>(cloud.NumberInRange("rotation_points", 2, 100000));
+  c.cloud.moving_average_window =
+      static_cast<int>(cloud.NumberInRange("moving_average_window", 1, WeightedMovingAverage::kMaxWindow));
+  const ConfigNode proxy = root.Child("proxy");
+  c.proxy.bisection_steps = static_cast<int>(proxy.NumberInRange("bisection_steps", 1, 60));
+  c.proxy.max_slides = static_cast<int>(proxy.NumberInRange("max_slides", 1, 10));
+  const ConfigNode pc = root.Child("passivity");
+  c.passivity.max_damping_ns_per_m = pc.PositiveNumber("max_damping_ns_per_m");
+  c.passivity.max_damping_nms_per_rad = pc.PositiveNumber("max_damping_nms_per_rad");
+  c.mapping_scale = root.Child("mapping").PositiveNumber("scale");
+  const ConfigNode hand = root.Child("hand");
+  c.hand.mass_kg = hand.PositiveNumber("mass_kg");
+  c.hand.stiffness_n_per_m = hand.PositiveNumber("stiffness_n_per_m");
+  c.hand.damping_ns_per_m = hand.NumberInRange("damping_ns_per_m", 0, 1e4);
+  c.hand.inertia_kgm2 = hand.PositiveNumber("inertia_kgm2");
+  c.hand.rot_stiffness_nm_per_rad = hand.PositiveNumber("rot_stiffness_nm_per_rad");
+  c.hand.rot_damping_nms_per_rad = hand.NumberInRange("rot_damping_nms_per_rad", 0, 1e3);
+  c.strike_hand_stiffness_n_per_m = hand.PositiveNumber("strike_stiffness_n_per_m");
+  const ConfigNode dev = root.Child("device_sim");
+  c.device.damping_ns_per_m = dev.NumberInRange("damping_ns_per_m", 0, 1e4);
+  c.device.rot_damping_nms_per_rad = dev.NumberInRange("rot_damping_nms_per_rad", 0, 1e3);
+  c.device.physics_rate_hz = dev.NumberInRange("physics_rate_hz", 100, 1e6);
+  return c;
+}
+
+}  // namespace robossis::haptics

@@ -1,0 +1,31 @@
+#pragma once
+// Configuration of the haptics module: data/config/haptics.yaml (paper values marked [paper], assumptions
+// [assumed]). Loaded and validated once; the real-time code only reads the resulting structs.
+
+#include <filesystem>
+
+#include "haptics/device/device_sim.h"
+#include "haptics/rendering/haptic_types.h"
+#include "haptics/rendering/point_cloud_renderer.h"
+#include "haptics/rendering/proxy_renderer.h"
+#include "haptics/rendering/wall_law.h"
+
+namespace robossis::haptics {
+
+struct HapticsConfig {
+  WallLawParams wall;              // the paper's eq. 18–19 constants
+  WallLawParams device_safe_wall;  // the device-safe preset
+  WrenchLimits limits;
+  PointCloudParams cloud;
+  ProxyParams proxy;
+  PassivityParams passivity;       // enabled per method by the factory
+  double mapping_scale = 1.0;
+  HandParams hand;
+  double strike_hand_stiffness_n_per_m = 1200;
+  DeviceSimParams device;
+
+  // Throws std::runtime_error naming the file and key.
+  static HapticsConfig FromYaml(const std::filesystem::path& file);
+};
+
+}  // namespace robossis::haptics

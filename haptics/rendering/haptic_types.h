@@ -1,0 +1,122 @@
+#pragma once
+// The real-time rendering interface: one tick takes the haptic controller (HC) pose and velocity and returns the
+// force and torque to display plus a status. Every renderer derives from HapticRenderer; Tick() is noexcept and
+// allocation-free (tests/haptics/rendering_rt_test.cc proves it with AllocationCounter).
+//
+// Frames: O is the HC base (sigma.7), H the HC handle; F is the RSR fixed ring, M its moving ring. The HC pose is
+// mapped to a commanded RSR pose X_FM by HcToRsrMap (the incremental mapping of eq. 10 with a constant scale); the
+// walls live in RSR space; forces are returned in O.
+
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "robot/rsr_model.h"
+
+namespace robossis::haptics {
+
+enum class HapticStatus : std::uint8_t {
+  kFree,             // no wall: only the free-space viscous force
+  kContact,          // a wall is rendered
+  kDeepPenetration,  // the pose is so far outside that the method's own depth estimate is lost (bounded fallback)
+  kFault,            // non-finite input: zero force and torque
+};
+const char* ToString(HapticStatus status);
+
+// One HC sample (SI, in the HC base frame O).
+struct HapticInput {
+  Eigen::Isometry3d X_OH = Eigen::Isometry3d::Identity();  // handle pose
+  Eigen::Vector3d v_O = Eigen::Vector3d::Zero();           // handle linear velocity (m/s)
+  Eigen::Vector3d w_O = Eigen::Vector3d::Zero();           // handle angular velocity (rad/s)
+};
+
+struct HapticOutput {
+  Eigen::Vector3d f_O = Eigen::Vector3d::Zero();    // force on the hand (N)
+  Eigen::Vector3d tau_O = Eigen::Vector3d::Zero();  // torque on the hand (N·m)
+  HapticStatus status = HapticStatus::kFree;
+  bool saturated = false;  // the force or torque cap was reached this tick
+};
+
+// HC → RSR pose (eq. 10 with a constant scale S and the clutch taken at the anchor poses). Assumption (the paper does
+// not say): the HC base axes are aligned with the RSR fixed-ring axes, so the mapping is a pure offset in position
+// and a relative rotation in orientation.
+//   p_FM = p_FM_anchor + scale · (p_OH − p_OH_anchor),   R_FM = (R_OH · R_OH_anchorᵀ) · R_FM_anchor
+struct HcToRsrMap {
+  Eigen::Isometry3d X_FM_anchor = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d X_OH_anchor = Eigen::Isometry3d::Identity();
+  double scale = 1.0;
+
+  Eigen::Isometry3d ToRsr(const Eigen::Isometry3d& X_OH) const noexcept;
+  Eigen::Isometry3d ToHc(const Eigen::Isometry3d& X_FM) const noexcept;
+};
+
+// The HC state expressed in RSR space: what the walls see.
+struct RsrSideState {
+  Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_F = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_F = Eigen::Vector3d::Zero();
+};
+
+// Caps on the rendered wrench (paper §VI: 15 N and 0.3 N·m).
+struct WrenchLimits {
+  double max_force_n = 15.0;
+  double max_torque_nm = 0.3;
+};
+
+// Time-domain passivity observer and controller (Ryu & Hannaford) on the rendered force and torque, one port each.
+// The observer sums the energy the hand put into the wall, E(k) = E(k−1) − F_k·v_k·Δt (F on the hand, v the
+// measured HC velocity); when E < 0 the wall has produced energy, and the controller adds the variable damper
+// −α·v with α = −E/(Δt·|v|²) (capped) that dissipates exactly that deficit. E is reset to 0 in free space, so
+// the free-space viscous force does not bank a reserve that would hide later wall activity (our choice).
+struct PassivityParams {
+  bool enabled = false;
+  double max_damping_ns_per_m = 200.0;      // [assumed] cap on α for the force port
+  double max_damping_nms_per_rad = 0.5;     // [assumed] cap on α for the torque port
+};
+
+class HapticRenderer {
+ public:
+  HapticRenderer(const robot::RsrModel& model, const HcToRsrMap& map, const WrenchLimits& limits, double rate_hz);
+  virtual ~HapticRenderer() = default;
+  HapticRenderer(const HapticRenderer&) = delete;
+  HapticRenderer& operator=(const HapticRenderer&) = delete;
+
+  // One haptic tick. Maps the HC state to RSR space, renders, saturates (keeping the direction) and returns the
+  // status. A non-finite input or result gives zero force and kFault. Allocation-free, lock-free, noexcept.
+  HapticStatus Tick(const HapticInput& input, HapticOutput& output) noexcept;
+
+  // Forget the history (filters, proxy, passivity observer) and start from the HC pose X_OH. Allocation-free.
+  void Reset(const Eigen::Isometry3d& X_OH) noexcept;
+  virtual const char* name() const noexcept = 0;
+
+  // Re-clutch: a new HC → RSR mapping (outside the tick; call Reset afterwards).
+  void SetMap(const HcToRsrMap& map) noexcept { map_ = map; }
+  void SetPassivity(const PassivityParams& params) noexcept { passivity_ = params; }
+  const PassivityParams& passivity() const { return passivity_; }
+  // Observed energy on each port (J, >= 0 while the wall is passive) after the controller acted.
+  double observed_energy_force_j() const { return energy_force_j_; }
+  double observed_energy_torque_j() const { return energy_torque_j_; }
+
+  const robot::RsrModel& model() const { return model_; }
+  const HcToRsrMap& map() const { return map_; }
+  double dt() const { return dt_; }
+
+ protected:
+  // The method proper: the wrench in RSR space (F), before the common saturation.
+  virtual HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept = 0;
+  virtual void ResetMethod(const Eigen::Isometry3d& X_OH) noexcept = 0;
+
+  const robot::RsrModel& model_;
+  HcToRsrMap map_;
+  WrenchLimits limits_;
+  double dt_;
+  PassivityParams passivity_;
+  double energy_force_j_ = 0;
+  double energy_torque_j_ = 0;
+};
+
+// Scales v down to norm max_norm if longer; returns true if it did.
+bool SaturateNorm(Eigen::Vector3d& v, double max_norm) noexcept;
+
+}  // namespace robossis::haptics

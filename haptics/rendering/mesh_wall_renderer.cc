@@ -1,0 +1,63 @@
+#include "haptics/rendering/mesh_wall_renderer.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "src/core/pose.h"
+
+namespace robossis::haptics {
+
+Eigen::Matrix3d RpyRateToAngularVelocity(const Eigen::Vector3d& rpy) noexcept {
+  const double cp = std::cos(rpy.y()), sp = std::sin(rpy.y());
+  const double cy = std::cos(rpy.z()), sy = std::sin(rpy.z());
+  Eigen::Matrix3d E;
+  // ω = ẏ·z + Rz(y)·(ṗ·y + Ry(p)·(ṙ·x))
+  E << cy * cp, -sy, 0,
+       sy * cp, cy, 0,
+       -sp, 0, 1;
+  return E;
+}
+
+MeshWallRenderer::MeshWallRenderer(const robot::RsrModel& model, const HcToRsrMap& map, const WrenchLimits& limits,
+                                   double rate_hz, const WallLawParams& wall, int moving_average_window,
+                                   std::shared_ptr<const geometry::BoundaryAtlas> atlas, const char* name)
+    : HapticRenderer(model, map, limits, rate_hz),
+      wall_(wall),
+      atlas_(std::move(atlas)),
+      name_(name),
+      filter_(moving_average_window) {
+  if (!atlas_) throw std::invalid_argument("mesh walls: no boundary atlas");
+}
+
+void MeshWallRenderer::ResetMethod(const Eigen::Isometry3d&) noexcept { filter_.Reset(); }
+
+HapticStatus MeshWallRenderer::Render(const RsrSideState& state, Eigen::Vector3d& f_F,
+                                      Eigen::Vector3d& tau_F) noexcept {
+  query_.Query(*atlas_, state.X_FM, 0.0, 0.0, &result_);
+  HapticStatus status = HapticStatus::kFree;
+  Eigen::Vector3d d_in = Eigen::Vector3d::Zero();
+  Eigen::Vector3d theta_in = Eigen::Vector3d::Zero();
+  const geometry::SignedDistanceResult& t = result_.translation;
+  const geometry::SignedDistanceResult& r = result_.rotation;
+  if (t.status != geometry::QueryStatus::kOk || r.status != geometry::QueryStatus::kOk) {
+    status = HapticStatus::kDeepPenetration;
+  }
+  if (t.status == geometry::QueryStatus::kOk && t.signed_distance < 0) {
+    d_in = t.signed_distance * t.normal;  // |s| along the inward normal −n_out
+    if (status == HapticStatus::kFree) status = HapticStatus::kContact;
+  }
+  if (r.status == geometry::QueryStatus::kOk && r.signed_distance < 0) {
+    const Eigen::Vector3d rpy = RpyFromRotation(state.X_FM.linear());
+    theta_in = RpyRateToAngularVelocity(rpy) * (r.signed_distance * r.normal);
+    if (status == HapticStatus::kFree) status = HapticStatus::kContact;
+  }
+  Vector6d wrench;
+  wrench.head<3>() = WallForce(wall_, d_in, state.v_F);        // eq. 18
+  wrench.tail<3>() = WallTorque(wall_, theta_in, state.w_F);  // eq. 19
+  const Vector6d filtered = filter_.Filter(wrench);
+  f_F = filtered.head<3>();
+  tau_F = filtered.tail<3>();
+  return status;
+}
+
+}  // namespace robossis::haptics

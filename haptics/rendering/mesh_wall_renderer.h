@@ -1,0 +1,49 @@
+#pragma once
+// Mesh walls (design card: "workspace boundary precomputed as meshes, queried with FCL for penetration depth"): the
+// paper's spring-damper law (eq. 18–19), moving average and caps, driven by the geometry module's FCL signed
+// penetration query against the precomputed boundary atlas (geometry/boundary_atlas.h) instead of point clouds.
+//
+//  * translation: the HC position against the dexterous slice of the nearest orientation grid node (metres, F);
+//    when it is outside (signed distance s < 0) the inward penetration vector is d_in = s·n_out (length |s|);
+//  * rotation: the HC's RPY against the rotational slice of the nearest position grid node (radians of RPY space);
+//    the inward RPY increment s·n_out is mapped to a world-frame rotation vector by the RPY rate matrix
+//    E(rpy) (ω = E·d(rpy)/dt for R = Rz(y)Ry(p)Rx(r)), so the torque is a physical torque;
+//  * free space: the viscous term only, as in Algorithm 1;
+//  * no slice at the nearest node (that whole slice is unreachable) or a failed query: kDeepPenetration with the
+//    viscous term only (bounded; never NaN).
+// The atlas is loaded before the loop; a query is O(log n) in the mesh size, allocation-free (geometry tests).
+
+#include <memory>
+
+#include "geometry/boundary_atlas.h"
+#include "haptics/rendering/haptic_types.h"
+#include "haptics/rendering/wall_law.h"
+
+namespace robossis::haptics {
+
+class MeshWallRenderer final : public HapticRenderer {
+ public:
+  MeshWallRenderer(const robot::RsrModel& model, const HcToRsrMap& map, const WrenchLimits& limits, double rate_hz,
+                   const WallLawParams& wall, int moving_average_window,
+                   std::shared_ptr<const geometry::BoundaryAtlas> atlas, const char* name = "mesh");
+
+  const char* name() const noexcept override { return name_; }
+  const geometry::PoseBoundaryResult& last_query() const { return result_; }
+
+ protected:
+  HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept override;
+  void ResetMethod(const Eigen::Isometry3d& X_OH) noexcept override;
+
+ private:
+  WallLawParams wall_;
+  std::shared_ptr<const geometry::BoundaryAtlas> atlas_;
+  const char* name_;
+  WeightedMovingAverage filter_;
+  geometry::AtlasPoseQuery query_;
+  geometry::PoseBoundaryResult result_;
+};
+
+// ω = E(rpy) · d(rpy)/dt for R = Rz(yaw) Ry(pitch) Rx(roll) (world-frame angular velocity).
+Eigen::Matrix3d RpyRateToAngularVelocity(const Eigen::Vector3d& rpy) noexcept;
+
+}  // namespace robossis::haptics

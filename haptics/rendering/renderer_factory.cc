@@ -1,0 +1,55 @@
+#include "haptics/rendering/renderer_factory.h"
+
+#include <stdexcept>
+
+#include "haptics/rendering/mesh_wall_renderer.h"
+#include "haptics/rendering/point_cloud_renderer.h"
+#include "haptics/rendering/proxy_renderer.h"
+
+namespace robossis::haptics {
+
+std::vector<std::string> KnownMethods() {
+  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "proxy", "proxy-safe", "proxy-pc"};
+}
+
+std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
+                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas) {
+  PassivityParams passive = config.passivity;
+  passive.enabled = true;
+  std::unique_ptr<HapticRenderer> r;
+  if (method == "pointcloud") {
+    r = std::make_unique<PointCloudRenderer>(model, map, config.limits, rate_hz, config.wall, config.cloud,
+                                             "pointcloud");
+  } else if (method == "pointcloud-safe") {
+    r = std::make_unique<PointCloudRenderer>(model, map, config.limits, rate_hz, config.device_safe_wall,
+                                             config.cloud, "pointcloud-safe");
+  } else if (method == "pointcloud-pc") {
+    r = std::make_unique<PointCloudRenderer>(model, map, config.limits, rate_hz, config.wall, config.cloud,
+                                             "pointcloud-pc");
+    r->SetPassivity(passive);
+  } else if (method == "mesh") {
+    if (!atlas) {
+      throw std::invalid_argument("method 'mesh' needs a boundary atlas (build one with `robossis workspace atlas "
+                                  "--out DIR` and pass --atlas DIR)");
+    }
+    r = std::make_unique<MeshWallRenderer>(model, map, config.limits, rate_hz, config.wall,
+                                           config.cloud.moving_average_window, std::move(atlas), "mesh");
+  } else if (method == "proxy") {
+    r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.proxy, "proxy");
+  } else if (method == "proxy-safe") {
+    r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.device_safe_wall, config.proxy,
+                                        "proxy-safe");
+  } else if (method == "proxy-pc") {
+    r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.device_safe_wall, config.proxy,
+                                        "proxy-pc");
+    r->SetPassivity(passive);
+  } else {
+    std::string known;
+    for (const std::string& m : KnownMethods()) known += (known.empty() ? "" : ", ") + m;
+    throw std::invalid_argument("--methods: unknown method '" + method + "'; known: " + known);
+  }
+  return r;
+}
+
+}  // namespace robossis::haptics

@@ -1,0 +1,30 @@
+#pragma once
+// Rendering methods by name, as the command line and the comparison use them.
+//
+//   pointcloud       the paper's method (Algorithm 1, eq. 18–21) with the paper's constants
+//   pointcloud-safe  the same with the device-safe preset (torque stiffness the sigma.7 renders stably)
+//   pointcloud-pc    the paper's method with the time-domain passivity observer + controller
+//   proxy            ours: god-object on the true boundary, virtual coupling, the paper's constants
+//   proxy-safe       ours with the device-safe preset
+//   proxy-pc         ours, device-safe preset, with the passivity observer + controller
+//   mesh             the paper's spring-damper law on the FCL signed penetration against the boundary atlas
+//                    (needs an atlas: `robossis workspace atlas --out DIR`)
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/boundary_atlas.h"
+#include "haptics/haptics_config.h"
+#include "haptics/rendering/haptic_types.h"
+
+namespace robossis::haptics {
+
+std::vector<std::string> KnownMethods();
+
+// Throws std::invalid_argument naming the method and listing the known ones. `atlas` is needed by "mesh" only.
+std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
+                                             const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr);
+
+}  // namespace robossis::haptics

@@ -1,0 +1,99 @@
+#pragma once
+// Side-by-side comparison of rendering methods on the same scripted hand motion, in closed loop with the simulated
+// sigma.7, and the metrics of issue 4, all measured against the TRUE boundary (IK feasibility with bisection,
+// haptics/rendering/boundary_probe.h), independently of the method:
+//   max_penetration_mm / _deg   how far the commanded RSR pose went beyond the true boundary: distance to the nearest
+//                               feasible position at the same orientation / angle to the nearest feasible orientation
+//                               at the same position; each tick counts toward the cheaper of the two escapes
+//                               (15 mm ≡ 5°), since the coupled workspace can often be re-entered either way
+//   direction_error_deg_p95     angle between the rendered force (torque) and the true inward normal of the tightest
+//                               joint limit at the commanded pose, over ticks in contact with |F| > 1 N (|τ| > 0.02 N·m)
+//   max_force_step_n            largest change of the force vector from one tick to the next (continuity)
+//   saturation_time_s           time with the force or torque at its cap
+//   energy_generated_j          energy the wall put into the hand: over each contact episode, the largest value of the
+//                               running integral of F·v + τ·ω (0 for a passive wall), summed over episodes
+//   tick_us_p50/p99/max         wall-clock time of HapticRenderer::Tick
+//   wall_onset_mm / _deg        push scenarios: signed distance to the true boundary where the wall first reached
+//                               2 N (0.05 N·m) — the workspace a method gives up before the true boundary
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/boundary_atlas.h"
+#include "haptics/haptics_config.h"
+#include "haptics/scenarios/scenario.h"
+
+namespace robossis::haptics {
+
+struct TickRecord {
+  double t_s = 0;
+  int episode = 0;
+  Vector6d target_mm_deg = Vector6d::Zero();  // hand target (RSR pose)
+  Vector6d pose_mm_deg = Vector6d::Zero();    // RSR pose commanded by the HC
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque_nm = Eigen::Vector3d::Zero();
+  int status = 0;
+  bool saturated = false;
+  double tick_us = 0;
+  double penetration_mm = 0;
+  double penetration_deg = 0;
+  double force_direction_error_deg = -1;   // -1: not evaluated this tick
+  double torque_direction_error_deg = -1;
+  double push_signed = 0;  // push episodes: signed distance to the true boundary along the push (mm or deg)
+  bool push_rotational = false;
+  bool is_push = false;
+  Eigen::Vector3d stroke_mm = Eigen::Vector3d::Zero();  // d_i at the commanded pose
+  Eigen::Vector3d cone_deg = Eigen::Vector3d::Zero();   // spherical-joint angles
+  double energy_into_hand_j = 0;  // cumulative over the run
+};
+
+struct MethodMetrics {
+  double max_penetration_mm = 0;
+  double max_penetration_deg = 0;
+  double direction_error_deg_p95 = 0;
+  double force_direction_error_deg_p95 = 0;
+  double torque_direction_error_deg_p95 = 0;
+  double max_force_step_n = 0;
+  double max_torque_step_nm = 0;
+  double saturation_time_s = 0;
+  double energy_generated_j = 0;
+  double tick_us_p50 = 0, tick_us_p99 = 0, tick_us_max = 0;
+  // Where the wall starts: over push episodes, the most negative signed distance to the true boundary at which
+  // |F| first reached 2 N (|τ| 0.05 N·m) — how much workspace the method gives up before the true boundary
+  // (negative: before it). NaN-free: 0 if no push episode reached the threshold.
+  double wall_onset_mm = 0;
+  double wall_onset_deg = 0;
+  int deep_penetration_ticks = 0;
+  int fault_ticks = 0;
+};
+
+struct MethodRun {
+  std::string method;
+  MethodMetrics metrics;
+  std::vector<TickRecord> trace;
+};
+
+struct CompareSettings {
+  double rate_hz = 1000;
+  bool keep_trace = true;
+  int trace_decimation = 1;  // keep every n-th tick in the trace (metrics always use every tick)
+};
+
+// Runs one method over every episode of the scenario in closed loop. `progress` (optional) gets a fraction in [0, 1].
+MethodRun RunMethod(const Scenario& scenario, const std::string& method, const HapticsConfig& config,
+                    const robot::RsrModel& rsr, const robot::Sigma7Model& sigma7, const CompareSettings& settings,
+                    std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr,
+                    const std::function<void(double)>& progress = {});
+
+// Output formats.
+std::string TraceCsv(const MethodRun& run);
+nlohmann::ordered_json SummaryJson(const Scenario& scenario, const CompareSettings& settings,
+                                   const std::vector<MethodRun>& runs);
+// Markdown table: one row per method, one column per metric, the best value of each column in bold, and a last row
+// naming the winner of each metric.
+std::string MarkdownTable(const std::vector<MethodRun>& runs);
+
+}  // namespace robossis::haptics

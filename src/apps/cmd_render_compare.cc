@@ -1,0 +1,179 @@
+// `robossis render-compare`: haptic rendering methods side by side on the same closed-loop motion (issue 4).
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "haptics/rendering/renderer_factory.h"
+#include "src/core/units.h"
+#include "src/apps/plotting.h"
+#include "src/apps/render_compare.h"
+
+namespace robossis::apps {
+
+std::vector<std::string> ParseMethodList(const std::string& text) {
+  std::vector<std::string> methods;
+  std::stringstream in(text);
+  std::string item;
+  const std::vector<std::string> known = haptics::KnownMethods();
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) throw std::invalid_argument("--methods: empty entry in '" + text + "'");
+    if (std::find(known.begin(), known.end(), item) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("--methods: unknown method '" + item + "'; known: " + list);
+    }
+    if (std::find(methods.begin(), methods.end(), item) != methods.end()) {
+      throw std::invalid_argument("--methods: '" + item + "' is listed twice");
+    }
+    methods.push_back(item);
+  }
+  if (methods.empty()) throw std::invalid_argument("--methods: expected a comma-separated list of methods");
+  return methods;
+}
+
+RenderCompareResult RunRenderCompare(const AppContext& context, const RenderCompareRequest& request,
+                                     const StagedOutputDir& out, const FigureFn& figure,
+                                     const std::function<void(const std::string&)>& progress) {
+  if (!(request.rate_hz >= 100 && request.rate_hz <= 20000)) {
+    throw std::invalid_argument("--rate-hz: expected a haptic rate in [100, 20000] Hz, got " +
+                                std::to_string(request.rate_hz));
+  }
+  const robot::RsrModel rsr = context.LoadRsr();
+  const robot::Sigma7Model sigma7 = context.LoadSigma7();
+  const haptics::HapticsConfig config = haptics::HapticsConfig::FromYaml(context.ConfigPath("haptics.yaml"));
+  RenderCompareResult result;
+  result.scenario = haptics::MakeScenario(request.scenario, rsr, config.hand, config.strike_hand_stiffness_n_per_m,
+                                          request.fast);
+  if (std::find(request.methods.begin(), request.methods.end(), "mesh") != request.methods.end()) {
+    if (request.atlas) {
+      result.atlas = request.atlas;
+      result.atlas_source = "reused";
+    } else if (!request.atlas_dir.empty()) {
+      result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BoundaryAtlas::Load(request.atlas_dir));
+      result.atlas_source = "loaded from " + request.atlas_dir;
+    } else {
+      // Without --atlas: the geometry module's coarse atlas with --fast, else a medium one [assumed]: the default
+      // grid steps doubled (10° in roll/pitch, 20° in yaw, 60 mm in x/y, 40 mm in z) at the default mesh
+      // resolutions — 200 slices, a few minutes, against the default's 1296 (pass --atlas for that one).
+      geometry::AtlasSpec spec = geometry::AtlasSpec::Coarse(rsr);
+      if (!request.fast) {
+        spec = geometry::AtlasSpec::Default(rsr);
+        const Eigen::Vector3d home = rsr.geometry().X_FM_home.translation();
+        spec.orientation_grid = {geometry::GridAxis{DegToRad(-20), DegToRad(10), 5},
+                                 geometry::GridAxis{DegToRad(-20), DegToRad(10), 5},
+                                 geometry::GridAxis{DegToRad(-40), DegToRad(20), 5}};
+        spec.position_grid = {geometry::GridAxis{home.x() - 0.12, 0.06, 5}, geometry::GridAxis{home.y() - 0.12, 0.06, 5},
+                              geometry::GridAxis{home.z() - 0.04, 0.04, 3}};
+      }
+      progress(std::string("render-compare: building the ") + (request.fast ? "coarse" : "medium") +
+               " boundary atlas for the mesh method (pass --atlas DIR to reuse one)");
+      const std::filesystem::path dir = out.Path(request.prefix + "atlas");
+      result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BuildAtlas(rsr, sigma7, spec, dir));
+      result.atlas_source = std::string("built (") +
+                            (request.fast ? "AtlasSpec::Coarse" : "medium: AtlasSpec::Default with doubled grid steps") +
+                            ") into " + request.prefix + "atlas/";
+    }
+  }
+  haptics::CompareSettings settings;
+  settings.rate_hz = request.rate_hz;
+  settings.trace_decimation = std::max(1, request.trace_decimation);
+  std::string traces, labels;
+  for (const std::string& method : request.methods) {
+    progress("render-compare: " + result.scenario.name + " at " + std::to_string(static_cast<int>(request.rate_hz)) +
+             " Hz, method " + method);
+    result.runs.push_back(haptics::RunMethod(result.scenario, method, config, rsr, sigma7, settings, result.atlas));
+    const std::string trace = request.prefix + "traces/" + method + ".csv";
+    out.Write(trace, haptics::TraceCsv(result.runs.back()));
+    traces += (traces.empty() ? "" : ",") + out.Path(trace).string();
+    labels += (labels.empty() ? "" : ",") + method;
+  }
+  result.summary = haptics::SummaryJson(result.scenario, settings, result.runs);
+  out.Write(request.prefix + "summary.json", result.summary.dump(2) + "\n");
+  result.table_markdown = haptics::MarkdownTable(result.runs);
+  out.Write(request.prefix + "summary.md", "# Rendering comparison: " + result.scenario.name + " at " +
+                                                std::to_string(static_cast<int>(request.rate_hz)) + " Hz\n\n" +
+                                                result.table_markdown);
+  bool any_push = false;
+  for (const haptics::Episode& e : result.scenario.episodes) any_push = any_push || e.is_push;
+  auto draw = [&](const std::string& script, const std::string& png, const std::string& caption) {
+    const std::string rel = request.prefix + png;
+    if (figure(script, {"--traces", traces, "--labels", labels, "--title", result.scenario.name}, rel, caption)) {
+      result.figures.push_back(rel);
+    } else {
+      result.figure_failures.push_back(rel);
+    }
+  };
+  if (any_push) {
+    draw("render_fig11.py", "fig11_force_vs_boundary.png",
+         "Fig. 11 analogue: force and torque versus the signed distance to the true boundary (" +
+             result.scenario.name + ")");
+  }
+  draw("render_fig12.py", "fig12_time_series.png",
+       "Fig. 12 analogue: RSR joints and the force/torque on the hand over time (" + result.scenario.name + ")");
+  return result;
+}
+
+void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
+  struct Options {
+    std::string scenario = "push-edges";
+    std::string methods;
+    double rate_hz = 1000;
+    std::string out = "render-compare";
+    bool fast = false;
+    bool json = false;
+    int trace_decimation = 5;
+    std::string atlas;
+  };
+  auto options = std::make_shared<Options>();
+  for (const std::string& m : haptics::KnownMethods()) options->methods += (options->methods.empty() ? "" : ",") + m;
+  CLI::App* cmd = app.add_subcommand(
+      "render-compare",
+      "Compare haptic rendering methods on the same closed-loop motion (simulated sigma.7 + hand)\n"
+      "Example: robossis render-compare --scenario push-edges --methods pointcloud,proxy --rate-hz 1000 --out cmp");
+  cmd->add_option("--scenario", options->scenario, "push-edges | explore | strike | FILE.csv (t_s,x_mm,...,yaw_deg)")
+      ->capture_default_str();
+  cmd->add_option("--methods", options->methods, "Comma-separated methods")->capture_default_str();
+  cmd->add_option("--rate-hz", options->rate_hz, "Haptic loop rate (Hz), e.g. 1000 or 4000")->capture_default_str();
+  cmd->add_option("--out", options->out, "Output folder (written atomically)")->capture_default_str();
+  cmd->add_option("--trace-decimation", options->trace_decimation, "Keep every n-th tick in the traces (the metrics use every tick)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--atlas", options->atlas,
+                  "Boundary atlas folder for the mesh method (robossis workspace atlas --out DIR); built if absent")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_flag("--fast", options->fast, "Fewer edges and shorter paths");
+  cmd->add_flag("--json", options->json, "Print summary.json to stdout");
+  cmd->callback([&context, options] {
+    RenderCompareRequest request;
+    request.scenario = options->scenario;
+    request.methods = ParseMethodList(options->methods);
+    request.rate_hz = options->rate_hz;
+    request.fast = options->fast;
+    request.trace_decimation = options->trace_decimation;
+    request.atlas_dir = options->atlas;
+    StagedOutputDir out(options->out);
+    auto figure = [&out](const std::string& script, const std::vector<std::string>& args, const std::string& png,
+                         const std::string&) {
+      std::vector<std::string> full = args;
+      full.push_back("--out");
+      full.push_back(out.Path(png).string());
+      const PlotResult r = RunPlotScript(script, full);
+      if (!r.ok) std::cerr << "render-compare: warning: " << png << " not rendered: " << r.message << "\n";
+      return r.ok;
+    };
+    const RenderCompareResult result =
+        RunRenderCompare(context, request, out, figure, [](const std::string& m) { std::cerr << m << std::endl; });
+    out.Commit();
+    if (options->json) {
+      PrintJson(result.summary);
+    } else {
+      std::cout << result.table_markdown << "\nWritten to " << out.target().string() << "\n";
+    }
+  });
+}
+
+}  // namespace robossis::apps

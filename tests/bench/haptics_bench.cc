@@ -1,0 +1,115 @@
+// Tick time of each haptic rendering method (issue 4): point cloud versus point count, proxy, mesh walls.
+// Run: build/tests/bench/bench_haptics --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// Ratios to the 1 ms (1 kHz) and 250 µs (4 kHz) budgets are recorded in BENCHMARKS.md.
+
+#include <filesystem>
+#include <memory>
+
+#include <benchmark/benchmark.h>
+
+#include "haptics/haptics_config.h"
+#include "haptics/rendering/mesh_wall_renderer.h"
+#include "haptics/rendering/point_cloud_renderer.h"
+#include "haptics/rendering/proxy_renderer.h"
+#include "haptics/scenarios/scenario.h"
+#include "robot/rsr_kinematics.h"
+#include "src/core/config.h"
+
+namespace robossis::haptics {
+namespace {
+
+const robot::RsrModel& Rsr() {
+  static const robot::RsrModel m = robot::RsrModel::Default();
+  return m;
+}
+const HapticsConfig& Config() {
+  static const HapticsConfig c = HapticsConfig::FromYaml(DefaultDataDir() / "config" / "haptics.yaml");
+  return c;
+}
+
+// Poses on a small back-and-forth path across the +x edge (range 0: free space at home; 1: at the edge).
+struct Path {
+  explicit Path(bool at_edge) {
+    const Eigen::Isometry3d home = Rsr().geometry().X_FM_home;
+    const double reach = at_edge ? ReachAlongAxis(Rsr(), home, Eigen::Vector3d::UnitX(), false, 0.3) : 0.0;
+    for (int k = 0; k < 64; ++k) {
+      Eigen::Isometry3d X = home;
+      X.translation().x() += reach + (at_edge ? 0.004 * std::sin(0.1 * k) : 0.0);
+      X.translation().y() += 0.002 * std::cos(0.1 * k);
+      poses[k] = X;
+    }
+  }
+  Eigen::Isometry3d poses[64];
+};
+
+void RunTicks(benchmark::State& state, HapticRenderer& r, const Path& path) {
+  HapticInput in;
+  HapticOutput out;
+  int k = 0;
+  r.Reset(path.poses[0]);
+  for (auto _ : state) {
+    in.X_OH = path.poses[k++ & 63];
+    benchmark::DoNotOptimize(r.Tick(in, out));
+    benchmark::DoNotOptimize(out.f_O.data());
+  }
+}
+
+void BM_IsPoseFeasible(benchmark::State& state) {
+  const Path path(true);
+  int k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(robot::IsPoseFeasible(Rsr(), path.poses[k++ & 63]));
+}
+BENCHMARK(BM_IsPoseFeasible);
+
+// Arguments: points per cloud (each of the two clouds), at the edge (1) or in free space (0).
+void BM_PointCloudTick(benchmark::State& state) {
+  PointCloudParams cloud = Config().cloud;
+  cloud.translation_points = cloud.rotation_points = static_cast<int>(state.range(0));
+  PointCloudRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().wall, cloud);
+  RunTicks(state, r, Path(state.range(1) != 0));
+  state.counters["points_per_tick"] = 2.0 * state.range(0);
+}
+BENCHMARK(BM_PointCloudTick)
+    ->ArgsProduct({{50, 100, 200, 500, 1000, 2000}, {0, 1}})
+    ->ArgNames({"points", "edge"})
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_ProxyTick(benchmark::State& state) {
+  ProxyRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().wall, Config().proxy);
+  RunTicks(state, r, Path(state.range(0) != 0));
+}
+BENCHMARK(BM_ProxyTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
+
+void BM_ProxyTickPassivity(benchmark::State& state) {
+  ProxyRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().device_safe_wall, Config().proxy);
+  PassivityParams pc = Config().passivity;
+  pc.enabled = true;
+  r.SetPassivity(pc);
+  RunTicks(state, r, Path(true));
+}
+BENCHMARK(BM_ProxyTickPassivity)->Unit(benchmark::kMicrosecond);
+
+std::shared_ptr<const geometry::BoundaryAtlas> Atlas() {
+  static std::shared_ptr<const geometry::BoundaryAtlas> atlas;
+  if (!atlas) {
+    // $ROBOSSIS_BENCH_ATLAS: an atlas folder (robossis workspace atlas --out DIR); else a coarse one built here.
+    const char* dir = std::getenv("ROBOSSIS_BENCH_ATLAS");
+    if (dir != nullptr && *dir != '\0') {
+      atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BoundaryAtlas::Load(dir));
+    } else {
+      atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BuildAtlas(
+          Rsr(), robot::Sigma7Model::Default(), geometry::AtlasSpec::Coarse(Rsr()),
+          std::filesystem::temp_directory_path() / "robossis_bench_atlas"));
+    }
+  }
+  return atlas;
+}
+
+void BM_MeshTick(benchmark::State& state) {
+  MeshWallRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().wall, 5, Atlas());
+  RunTicks(state, r, Path(state.range(0) != 0));
+}
+BENCHMARK(BM_MeshTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace robossis::haptics

@@ -1,0 +1,87 @@
+// Mesh walls on the geometry module's boundary atlas (FCL signed penetration).
+
+#include <filesystem>
+#include <memory>
+
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "haptics/rendering/boundary_probe.h"
+#include "haptics/rendering/mesh_wall_renderer.h"
+#include "haptics/scenarios/scenario.h"
+#include "test_util.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::haptics {
+namespace {
+
+using testing::Config;
+using testing::Hold;
+using testing::Home;
+using testing::IdentityMap;
+using testing::Rsr;
+using testing::Translated;
+
+class MeshWall : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "robossis_haptics_test_atlas";
+    atlas_ = std::make_shared<const geometry::BoundaryAtlas>(
+        geometry::BuildAtlas(Rsr(), robot::Sigma7Model::Default(), geometry::AtlasSpec::Coarse(Rsr()), dir));
+  }
+  static void TearDownTestSuite() { atlas_.reset(); }
+  static std::shared_ptr<const geometry::BoundaryAtlas> atlas_;
+  MeshWallRenderer Make() {
+    return MeshWallRenderer(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, 5, atlas_);
+  }
+};
+std::shared_ptr<const geometry::BoundaryAtlas> MeshWall::atlas_;
+
+TEST_F(MeshWall, ViscousOnlyInside) {
+  MeshWallRenderer r = Make();
+  r.Reset(Home());
+  const Eigen::Vector3d v(0.01, 0, 0);
+  const HapticOutput out = Hold(r, Home(), 6, v);
+  EXPECT_EQ(out.status, HapticStatus::kFree);
+  EXPECT_TRUE(out.f_O.isApprox(-Config().wall.c_f_ns_per_m * v, 1e-12));
+}
+
+TEST_F(MeshWall, PushesBackBeyondTheTopAndBottomEdges) {
+  MeshWallRenderer r = Make();
+  for (const Eigen::Vector3d& axis : std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0, 0, -1)}) {
+    const double reach = ReachAlongAxis(Rsr(), Home(), axis, false, 0.3);
+    const Eigen::Isometry3d X = Translated(Home(), (reach + 0.004) * axis);  // 4 mm beyond
+    r.Reset(X);
+    const HapticOutput out = Hold(r, X);
+    ASSERT_EQ(out.status, HapticStatus::kContact) << axis.transpose();
+    EXPECT_LT(out.f_O.dot(axis), 0) << axis.transpose();
+    EXPECT_GT(out.f_O.normalized().dot(InwardNormalTranslation(Rsr(), X)), 0.9);
+    // The mesh depth approximates the true 4 mm (coarse atlas: 10 mm cells).
+    EXPECT_NEAR(-r.last_query().translation.signed_distance, 0.004, 0.004);
+  }
+}
+
+TEST_F(MeshWall, TickAllocatesNothing) {
+  MeshWallRenderer r = Make();
+  r.Reset(Home());
+  HapticInput in;
+  HapticOutput out;
+  robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 200; ++k) {
+    in.X_OH = Translated(Home(), Eigen::Vector3d(0, 0, 0.0008 * k));
+    r.Tick(in, out);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(RpyRate, MatchesFiniteDifferenceOfTheRotation) {
+  const Eigen::Vector3d rpy(0.2, -0.3, 0.5), rate(0.1, 0.4, -0.2);
+  const double h = 1e-7;
+  const Eigen::Matrix3d R0 = RotationFromRpy(rpy), R1 = RotationFromRpy(rpy + h * rate);
+  const Eigen::Vector3d w_fd = RotationVector(R1 * R0.transpose()) / h;
+  EXPECT_TRUE((RpyRateToAngularVelocity(rpy) * rate).isApprox(w_fd, 1e-5));
+}
+
+}  // namespace
+}  // namespace robossis::haptics

@@ -1,0 +1,78 @@
+// Scenarios and the trajectory CSV replay.
+
+#include <filesystem>
+#include <fstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "haptics/scenarios/scenario.h"
+#include "test_util.h"
+
+namespace robossis::haptics {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::Config;
+using testing::Rsr;
+
+std::filesystem::path WriteTemp(const std::string& name, const std::string& text) {
+  const std::filesystem::path p = std::filesystem::temp_directory_path() / ("robossis_haptics_" + name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+TEST(Scenario, PushEdgesStartInsideAndCrossTheBoundaryAtThePaperSpeeds) {
+  const Scenario s = MakeScenario("push-edges", Rsr(), Config().hand, 800, false);
+  ASSERT_EQ(s.episodes.size(), 12u);
+  for (const Episode& e : s.episodes) {
+    EXPECT_TRUE(robot::IsPoseFeasible(Rsr(), e.X_FM_start)) << e.label;
+    EXPECT_GT(e.boundary_s, 0) << e.label;
+    // Target speed along the push: 10 mm/s (translation) or 1 deg/s (rotation), paper §VI-B.
+    const double t = 1.0, h = 1e-3;
+    const Eigen::Isometry3d a = e.target_FM(t), b = e.target_FM(t + h);
+    const double speed = e.rotational ? RotationAngleBetween(a.linear(), b.linear()) / h
+                                      : (b.translation() - a.translation()).norm() / h;
+    EXPECT_NEAR(speed, e.rotational ? 3.14159265358979 / 180 : 0.01, 1e-6) << e.label;
+  }
+}
+
+TEST(Scenario, UnknownNameIsRejectedWithTheKnownOnes) {
+  try {
+    MakeScenario("wiggle", Rsr(), Config().hand, 800, true);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("push-edges"));
+  }
+}
+
+TEST(Scenario, CsvReplayInterpolatesTheTrajectory) {
+  const auto p = WriteTemp("ok.csv",
+                           "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n"
+                           "0,0,0,284,0,0,0\n"
+                           "1,10,0,284,0,0,0\n");
+  const Scenario s = LoadTrajectoryCsv(p, Config().hand);
+  ASSERT_EQ(s.episodes.size(), 1u);
+  EXPECT_NEAR(s.duration_s(), 1.0, 1e-12);
+  EXPECT_NEAR(s.episodes[0].target_FM(0.5).translation().x(), 0.005, 1e-12);
+}
+
+TEST(Scenario, CsvErrorsNameTheLineAndColumn) {
+  auto message = [](const std::string& text) {
+    try {
+      LoadTrajectoryCsv(WriteTemp("bad.csv", text), Config().hand);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string header = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
+  EXPECT_THAT(message("t,x\n0,1\n"), HasSubstr("line 1"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n1,abc,0,284,0,0,0\n"), HasSubstr("line 3: column 2"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n0,0,0,284,0,0,0\n"), HasSubstr("increase"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0\n"), HasSubstr("7 comma-separated"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n"), HasSubstr("at least 2"));
+}
+
+}  // namespace
+}  // namespace robossis::haptics
