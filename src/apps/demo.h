@@ -27,5 +27,6 @@ struct DemoContext {
 
 // The sections, in report order.
 void WriteRobotSection(DemoContext& demo);
+void WriteTransferSection(DemoContext& demo);
 
 }  // namespace robossis::apps

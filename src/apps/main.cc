@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   apps::RegisterRobotCommands(app, context);
   apps::RegisterHcCommands(app, context);
   apps::RegisterDemoCommand(app, context);
+  apps::RegisterTransferCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
