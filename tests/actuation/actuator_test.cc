@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "haptics/transfer/motion_transfer.h"
 #include "haptics/transfer/timed_move.h"
 #include "robot/actuation/actuator.h"
 #include "robot/actuation/pulse_recorder.h"
@@ -147,6 +148,29 @@ TEST(ActuatorTest, TickAllocatesNothing) {
     act.Tick(k * 1e-4, sp.X_FM, sp.velocity);
   }
   EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(ActuatorTest, WholeTenKilohertzTickAllocatesNothing) {
+  // The full 10 kHz tick as the follower side runs it: motion transfer fast path, then the actuator.
+  const robot::RsrModel model = robot::RsrModel::Default();
+  transfer::MotionTransfer mt(transfer::TransferConfig{}, model.geometry().X_FM_home);
+  Actuator act(model, Config(), model.geometry().X_FM_home);
+  transfer::HcSample sample;
+  const testing::AllocationCounter counter;
+  for (int k = 0; k < 1000; ++k) {
+    sample.time_s = k * 1e-3;
+    sample.p_OH = Eigen::Vector3d(0.02 * k * 1e-3, 0, 0);  // 20 mm/s: scaled to the cap
+    mt.PushHcSample(sample);
+    mt.TransferTick();
+    for (int j = 0; j < 10; ++j) {
+      const transfer::RsrSetPoint& sp = mt.ActuationTick();
+      act.Tick(sp.time_s, sp.X_FM, sp.velocity);
+    }
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  std::int64_t moved = 0;
+  for (std::int64_t n : act.output().steps) moved += n < 0 ? -n : n;
+  EXPECT_GT(moved, 0);  // it did move
 }
 
 class RecordingFollower : public robot::Follower {
