@@ -31,5 +31,6 @@ void WriteWorkspaceSection(DemoContext& demo);
 void WriteSimSection(DemoContext& demo);
 void WriteTrackingSection(DemoContext& demo);  // ## 6. Tracking accuracy (calibration/)
 void WriteRenderingSection(DemoContext& demo);
+void WriteTransferSection(DemoContext& demo);
 
 }  // namespace robossis::apps

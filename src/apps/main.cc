@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   apps::RegisterSimCommands(app, context);
   apps::RegisterMocapCommands(app, context);
   apps::RegisterTrackEvalCommand(app, context);
+  apps::RegisterTransferCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,94 @@
+#include "haptics/transfer/transfer_config.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "src/core/config.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+
+namespace robossis::transfer {
+
+namespace {
+void Require(bool ok, const std::string& field, const std::string& expected, double value) {
+  if (!ok) {
+    throw std::invalid_argument("transfer config: '" + field + "': expected " + expected + ", got " +
+                                std::to_string(value));
+  }
+}
+}  // namespace
+
+void TransferConfig::Validate() const {
+  Require(std::isfinite(rates.transfer_rate_hz) && rates.transfer_rate_hz > 0, "rates.transfer_rate_hz",
+          "a positive rate", rates.transfer_rate_hz);
+  Require(std::isfinite(rates.actuation_rate_hz) && rates.actuation_rate_hz >= rates.transfer_rate_hz,
+          "rates.actuation_rate_hz", "a rate >= transfer_rate_hz", rates.actuation_rate_hz);
+  const double ratio = rates.actuation_rate_hz / rates.transfer_rate_hz;
+  Require(std::abs(ratio - std::round(ratio)) < 1e-9, "rates.actuation_rate_hz",
+          "an integer multiple of transfer_rate_hz", rates.actuation_rate_hz);
+  Require(std::isfinite(caps.max_linear_speed_m_s) && caps.max_linear_speed_m_s > 0, "caps.max_linear_speed_mm_s",
+          "a positive speed", MToMm(caps.max_linear_speed_m_s));
+  Require(std::isfinite(caps.max_angular_speed_rad_s) && caps.max_angular_speed_rad_s > 0,
+          "caps.max_angular_speed_deg_s", "a positive speed", RadToDeg(caps.max_angular_speed_rad_s));
+  Require(std::isfinite(mapping.translation_scale) && mapping.translation_scale > 0, "mapping.translation_scale",
+          "a positive factor", mapping.translation_scale);
+  Require(std::isfinite(mapping.rotation_scale) && mapping.rotation_scale > 0, "mapping.rotation_scale",
+          "a positive factor", mapping.rotation_scale);
+  Require(mapping.cap_headroom > 0 && mapping.cap_headroom <= 1, "mapping.cap_headroom", "a value in (0, 1]",
+          mapping.cap_headroom);
+  Require(std::isfinite(mapping.max_backlog_s) && mapping.max_backlog_s >= 0, "mapping.max_backlog_s",
+          "a non-negative duration", mapping.max_backlog_s);
+  Require(std::isfinite(mapping.max_prediction_s) && mapping.max_prediction_s >= 0, "mapping.max_prediction_s",
+          "a non-negative duration", mapping.max_prediction_s);
+  const Eigen::Matrix3d RtR = mapping.R_FO.transpose() * mapping.R_FO;
+  Require(mapping.R_FO.allFinite() && (RtR - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
+              mapping.R_FO.determinant() > 0,
+          "mapping.rsr_from_hc_rpy_deg", "a proper rotation", mapping.R_FO.determinant());
+  Require(filter.moving_average_window >= 1 && filter.moving_average_window <= kMaxMovingAverageWindow,
+          "filter.moving_average_window", "an integer in [1, 1024]", filter.moving_average_window);
+  Require(std::isfinite(filter.kalman_jerk_psd) && filter.kalman_jerk_psd > 0, "filter.kalman_jerk_psd",
+          "a positive spectral density", filter.kalman_jerk_psd);
+  Require(std::isfinite(filter.kalman_measurement_std_m) && filter.kalman_measurement_std_m > 0,
+          "filter.kalman_measurement_std_mm", "a positive std", MToMm(filter.kalman_measurement_std_m));
+  Require(std::isfinite(filter.guard_time_constant_s) && filter.guard_time_constant_s >= 0,
+          "filter.guard_time_constant_s", "a non-negative time constant", filter.guard_time_constant_s);
+  Require(std::isfinite(filter.guard_position_gain_per_s) && filter.guard_position_gain_per_s >= 0 &&
+              (filter.guard_time_constant_s == 0 || filter.guard_position_gain_per_s * filter.guard_time_constant_s < 2),
+          "filter.guard_position_gain_per_s", "a gain in [0, 2 / guard_time_constant_s) for stability",
+          filter.guard_position_gain_per_s);
+}
+
+TransferConfig TransferConfig::FromYaml(const std::filesystem::path& file) {
+  const ConfigNode root = ConfigNode::Load(file);
+  TransferConfig c;
+  const ConfigNode rates = root.Child("rates");
+  c.rates.transfer_rate_hz = rates.PositiveNumber("transfer_rate_hz");
+  c.rates.actuation_rate_hz = rates.PositiveNumber("actuation_rate_hz");
+  const ConfigNode caps = root.Child("caps");
+  c.caps.max_linear_speed_m_s = MmToM(caps.PositiveNumber("max_linear_speed_mm_s"));
+  c.caps.max_angular_speed_rad_s = DegToRad(caps.PositiveNumber("max_angular_speed_deg_s"));
+  const ConfigNode mapping = root.Child("mapping");
+  const std::vector<double> rpy = mapping.Numbers("rsr_from_hc_rpy_deg", 3);
+  c.mapping.R_FO = RotationFromRpy(Eigen::Vector3d(DegToRad(rpy[0]), DegToRad(rpy[1]), DegToRad(rpy[2])));
+  c.mapping.translation_scale = mapping.PositiveNumber("translation_scale");
+  c.mapping.rotation_scale = mapping.PositiveNumber("rotation_scale");
+  c.mapping.cap_headroom = mapping.NumberInRange("cap_headroom", 1e-6, 1.0);
+  c.mapping.max_backlog_s = mapping.NumberInRange("max_backlog_s", 0.0, 10.0);
+  c.mapping.max_prediction_s = mapping.NumberInRange("max_prediction_s", 0.0, 1.0);
+  const ConfigNode filter = root.Child("filter");
+  c.filter.moving_average_window = filter.Integer("moving_average_window");
+  c.filter.kalman_enabled = filter.Bool("kalman_enabled");
+  c.filter.kalman_jerk_psd = filter.PositiveNumber("kalman_jerk_psd");
+  c.filter.kalman_measurement_std_m = MmToM(filter.PositiveNumber("kalman_measurement_std_mm"));
+  c.filter.guard_position_gain_per_s = filter.NumberInRange("guard_position_gain_per_s", 0.0, 1e6);
+  c.filter.guard_time_constant_s = filter.NumberInRange("guard_time_constant_s", 0.0, 1.0);
+  try {
+    c.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+  return c;
+}
+
+}  // namespace robossis::transfer

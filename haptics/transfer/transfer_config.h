@@ -1,0 +1,68 @@
+#pragma once
+// Settings of the motion transfer (paper §V, eq. 9–12), loaded once from data/config/transfer.yaml and validated
+// there. Everything is SI inside; the YAML keys carry their units (mm, deg, Hz).
+
+#include <filesystem>
+
+#include <Eigen/Geometry>
+
+namespace robossis::transfer {
+
+// Tick rates. The paper samples the HC at 1 kHz (USB) and drives the steppers at 10 kHz (§V).
+struct TransferRates {
+  double transfer_rate_hz = 1000;    // [paper] HC sampling and the incremental mapping
+  double actuation_rate_hz = 10000;  // [paper] stepper commands
+  int upsampling_ratio() const { return static_cast<int>(actuation_rate_hz / transfer_rate_hz + 0.5); }
+};
+
+// The speed caps of eq. 11, on the norm of the linear and of the angular velocity.
+struct SpeedCaps {
+  double max_linear_speed_m_s = 0.010;                    // [paper] 10 mm/s in the demonstration (2 mm/s clinical)
+  double max_angular_speed_rad_s = 1.0 * 3.14159265358979323846 / 180.0;  // [paper] 1 deg/s (0.2 deg/s clinical)
+};
+
+// Incremental mapping (eq. 10–11) and input hygiene.
+struct MappingConfig {
+  // Rotation taking HC-base directions into RSR fixed-frame directions (R_FO). [assumed] identity.
+  Eigen::Matrix3d R_FO = Eigen::Matrix3d::Identity();
+  double translation_scale = 1.0;  // [assumed] nominal motion scaling before the dynamic scaling of eq. 11
+  double rotation_scale = 1.0;     // [assumed]
+  // [assumed] The mapping scales increments to this fraction of the caps, leaving the final guard headroom so
+  // that it rarely has to saturate (it still guarantees the caps on its own).
+  double cap_headroom = 0.95;
+  // [assumed] After a USB stall the accumulated increment is released at the cap; at most this many seconds of
+  // motion at the cap are kept waiting, the rest is dropped (like a short clutch release) so the delay stays bounded.
+  double max_backlog_s = 0.10;
+  // [assumed] While no new HC sample arrives (dropout, frozen driver), the Kalman filter predicts without a
+  // measurement for at most this long, so a short gap does not brake the RSR; after it, the held target is measured
+  // again and the RSR comes to rest.
+  double max_prediction_s = 0.0;
+};
+
+// The 10 kHz chain: moving average, Kalman filter (eq. 12), cap guard.
+struct FilterConfig {
+  int moving_average_window = 50;         // [assumed] samples at 10 kHz (5 ms); 1 disables it
+  bool kalman_enabled = true;             // [paper] eq. 12
+  double kalman_jerk_psd = 1.0e-5;        // [assumed] white-jerk spectral density q of the constant-acceleration model
+  double kalman_measurement_std_m = 1.0e-4;  // [assumed] r: std of the up-sampled position "measurement"
+  // Cap guard: velocity feed-forward plus position feedback, clamped to the caps, then two first-order low-passes
+  // (a convex combination: the clamped ball is never left) so that acceleration stays continuous.
+  double guard_position_gain_per_s = 60;  // [assumed] k_p; stable for k_p < 2 / tau
+  double guard_time_constant_s = 0.003;   // [assumed] tau of each low-pass
+};
+
+struct TransferConfig {
+  TransferRates rates;
+  SpeedCaps caps;
+  MappingConfig mapping;
+  FilterConfig filter;
+
+  // Throws std::invalid_argument naming the field if a value is out of range.
+  void Validate() const;
+  // Loads transfer.yaml; throws std::runtime_error naming the file and key.
+  static TransferConfig FromYaml(const std::filesystem::path& file);
+};
+
+inline constexpr int kMaxMovingAverageWindow = 1024;
+
+}  // namespace robossis::transfer

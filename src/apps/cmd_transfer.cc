@@ -1,0 +1,192 @@
+// `robossis transfer` and `robossis move`: the motion transfer and actuation chain from the command line.
+
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "haptics/transfer/hc_trajectory.h"
+#include "src/apps/app_context.h"
+#include "src/apps/plotting.h"
+#include "src/apps/transfer_run.h"
+#include "src/core/parse.h"
+#include "src/core/units.h"
+
+namespace robossis::apps {
+
+namespace {
+
+struct CommonOptions {
+  std::string out;
+  std::string start_pose;
+  double max_speed_mm_s = 0;
+  double max_angular_speed_deg_s = 0;
+  bool clinical = false;
+  bool no_plots = false;
+  bool json = false;
+
+  void Add(CLI::App* cmd) {
+    cmd->add_option("--out", out, "Output folder (written atomically: complete or untouched)")->required();
+    cmd->add_option("--start-pose", start_pose, "Start pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG (default: home)");
+    cmd->add_option("--max-speed-mm-s", max_speed_mm_s, "Linear speed cap (default: transfer.yaml, 10 mm/s)");
+    cmd->add_option("--max-angular-speed-deg-s", max_angular_speed_deg_s,
+                    "Angular speed cap (default: transfer.yaml, 1 deg/s)");
+    cmd->add_flag("--clinical", clinical, "Clinical caps of the paper: 2 mm/s and 0.2 deg/s");
+    cmd->add_flag("--no-plots", no_plots, "Skip the PNG figures (CSV and JSON only)");
+    cmd->add_flag("--json", json, "Print summary.json to stdout");
+  }
+
+  ChainSetup Setup(const AppContext& context, const robot::RsrModel& model) const {
+    ChainSetup s;
+    s.transfer = transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml"));
+    s.actuation = actuation::ActuationConfig::FromYaml(context.ConfigPath("actuation.yaml"));
+    if (clinical) {
+      s.transfer.caps.max_linear_speed_m_s = MmToM(2.0);     // [paper §V]
+      s.transfer.caps.max_angular_speed_rad_s = DegToRad(0.2);  // [paper §V]
+    }
+    if (max_speed_mm_s != 0) {
+      if (!(max_speed_mm_s > 0)) throw std::invalid_argument("--max-speed-mm-s: expected a positive speed");
+      s.transfer.caps.max_linear_speed_m_s = MmToM(max_speed_mm_s);
+    }
+    if (max_angular_speed_deg_s != 0) {
+      if (!(max_angular_speed_deg_s > 0)) {
+        throw std::invalid_argument("--max-angular-speed-deg-s: expected a positive speed");
+      }
+      s.transfer.caps.max_angular_speed_rad_s = DegToRad(max_angular_speed_deg_s);
+    }
+    s.transfer.Validate();
+    s.model = &model;
+    s.X_FM_start = start_pose.empty() ? model.geometry().X_FM_home : ParsePoseMmDeg(start_pose, "--start-pose");
+    if (!robot::IsPoseFeasible(model, s.X_FM_start)) {
+      throw std::invalid_argument("--start-pose: the pose is outside the RSR's joint limits");
+    }
+    return s;
+  }
+};
+
+void Plot(const StagedOutputDir& out, const std::string& script, std::vector<std::string> args,
+          const std::string& png) {
+  args.push_back("--out");
+  args.push_back(out.Path(png).string());
+  const PlotResult r = RunPlotScript(script, args);
+  if (!r.ok) std::cerr << "robossis: warning: " << png << " not rendered: " << r.message << "\n";
+}
+
+void WriteOutputs(const StagedOutputDir& out, const TransferTrace& trace, const CommonOptions& options,
+                  bool with_fig8) {
+  out.Write("setpoints.csv", SetPointsCsv(trace));
+  out.Write("joints.csv", JointsCsv(trace));
+  out.Write("pulses.csv", PulsesCsv(trace));
+  if (with_fig8) out.Write("transfer_1khz.csv", SlowTraceCsv(trace));
+  const nlohmann::ordered_json summary = SummaryJson(trace.summary);
+  out.Write("summary.json", summary.dump(2) + "\n");
+  if (!options.no_plots) {
+    const std::string dir = out.staging().string();
+    if (with_fig8) Plot(out, "transfer_fig8.py", {"--dir", dir}, "fig8_transfer.png");
+    Plot(out, "transfer_fig9.py", {"--dir", dir}, "fig9_actuation.png");
+  }
+  if (options.json) PrintJson(summary);
+}
+
+void PrintSummaryText(const TransferSummary& s, const std::string& out_dir) {
+  std::cout << "max speed " << s.max_speed_mm_s << " mm/s, max angular speed " << s.max_angular_speed_deg_s
+            << " deg/s, max accel " << s.max_accel_mm_s2 << " mm/s^2, max jerk " << s.max_jerk_mm_s3
+            << " mm/s^3, delay " << s.delay_ms << " ms, steps error max " << s.steps_error_max << " steps\n"
+            << "written to " << out_dir << "\n";
+}
+
+}  // namespace
+
+void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
+  // robossis transfer
+  CLI::App* tr = app.add_subcommand(
+      "transfer", "HC trajectory → incremental mapping, scaling, 10 kHz filtering → joint velocities and pulses\n"
+                  "Example: robossis transfer --scenario fig8 --out transfer-out");
+  auto hc_file = std::make_shared<std::string>();
+  auto scenario = std::make_shared<std::string>();
+  auto tr_options = std::make_shared<CommonOptions>();
+  CLI::Option* hc_opt = tr->add_option("--hc", *hc_file,
+                                       "HC trajectory CSV: time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg"
+                                       "[,clutch][,arrival_s]");
+  std::string names;
+  for (const std::string& n : transfer::ScenarioNames()) names += (names.empty() ? "" : ", ") + n;
+  CLI::Option* sc_opt = tr->add_option("--scenario", *scenario, "Built-in HC trajectory: " + names);
+  hc_opt->excludes(sc_opt);
+  tr_options->Add(tr);
+  tr->callback([&context, hc_file, scenario, tr_options] {
+    if (hc_file->empty() == scenario->empty()) {
+      throw std::invalid_argument("transfer: give exactly one of --hc FILE.csv or --scenario NAME");
+    }
+    const transfer::HcTrajectory hc =
+        hc_file->empty() ? transfer::MakeScenario(*scenario) : transfer::ReadHcCsv(*hc_file);
+    const robot::RsrModel model = context.LoadRsr();
+    const ChainSetup setup = tr_options->Setup(context, model);
+    StagedOutputDir out(tr_options->out);
+    std::cerr << "[transfer] " << hc.description << ": " << hc.records.size() << " samples\n";
+    const TransferTrace trace = RunTransferChain(hc, setup);
+    out.Write("hc.csv", HcRecordsCsv(hc));
+    WriteOutputs(out, trace, *tr_options, true);
+    out.Commit();
+    if (!tr_options->json) PrintSummaryText(trace.summary, tr_options->out);
+  });
+
+  // robossis move
+  CLI::App* mv = app.add_subcommand(
+      "move", "Time-controlled move (eq. 9) from the start pose → joint velocities and pulses\n"
+              "Example: robossis move --delta-mm 0,0,10 --delta-deg 0,0,2 --duration-s 5 --out move-out");
+  auto delta_mm = std::make_shared<std::string>("0,0,0");
+  auto delta_deg = std::make_shared<std::string>("0,0,0");
+  auto duration = std::make_shared<double>(0);
+  auto speed_mm = std::make_shared<double>(0);
+  auto speed_deg = std::make_shared<double>(0);
+  auto mv_options = std::make_shared<CommonOptions>();
+  mv->add_option("--delta-mm", *delta_mm, "Change of position DX_MM,DY_MM,DZ_MM (fixed frame)")->capture_default_str();
+  mv->add_option("--delta-deg", *delta_deg, "Change of orientation RX_DEG,RY_DEG,RZ_DEG (rotation vector, fixed axes)")
+      ->capture_default_str();
+  CLI::Option* dur_opt = mv->add_option("--duration-s", *duration, "Duration of the move (s)");
+  CLI::Option* spd_opt = mv->add_option("--speed-mm-s", *speed_mm, "Peak linear speed instead of a duration");
+  CLI::Option* spd_deg_opt = mv->add_option("--speed-deg-s", *speed_deg, "Peak angular speed instead of a duration");
+  dur_opt->excludes(spd_opt)->excludes(spd_deg_opt);
+  mv_options->Add(mv);
+  mv->callback([&context, delta_mm, delta_deg, duration, speed_mm, speed_deg, mv_options] {
+    const std::vector<double> dp = ParseNumberList(*delta_mm, 3, "--delta-mm", "DX_MM,DY_MM,DZ_MM");
+    const std::vector<double> dr = ParseNumberList(*delta_deg, 3, "--delta-deg", "RX_DEG,RY_DEG,RZ_DEG");
+    transfer::TimedMoveRequest req;
+    req.delta_p_F = MmToM(1.0) * Eigen::Vector3d(dp[0], dp[1], dp[2]);
+    req.delta_rot_F = DegToRad(1.0) * Eigen::Vector3d(dr[0], dr[1], dr[2]);
+    if (req.delta_rot_F.norm() >= kPi) throw std::invalid_argument("--delta-deg: the rotation must be below 180 deg");
+    double duration_s = *duration;
+    if (duration_s == 0) {
+      if (*speed_mm == 0 && *speed_deg == 0) {
+        throw std::invalid_argument("move: give --duration-s, or --speed-mm-s / --speed-deg-s");
+      }
+      if (*speed_mm < 0 || *speed_deg < 0) throw std::invalid_argument("move: speeds must be positive");
+      const double inf = 1e300;
+      duration_s = transfer::TimedMove::DurationForPeakSpeeds(req, *speed_mm > 0 ? MmToM(*speed_mm) : inf,
+                                                              *speed_deg > 0 ? DegToRad(*speed_deg) : inf);
+      if ((req.delta_p_F.norm() > 0 && *speed_mm == 0) || (req.delta_rot_F.norm() > 0 && *speed_deg == 0)) {
+        throw std::invalid_argument("move: give a speed for every part that moves (--speed-mm-s, --speed-deg-s)");
+      }
+    } else if (!(duration_s > 0)) {
+      throw std::invalid_argument("--duration-s: expected a positive duration, got " + std::to_string(duration_s));
+    }
+    const robot::RsrModel model = context.LoadRsr();
+    ChainSetup setup = mv_options->Setup(context, model);
+    setup.settle_s = 0.2;
+    // The move itself must stay inside the workspace: check its end and a few intermediate poses.
+    const transfer::TimedMove probe(setup.X_FM_start, req, duration_s);
+    for (int i = 1; i <= 20; ++i) {
+      if (!robot::IsPoseFeasible(model, probe.Evaluate(duration_s * i / 20.0).X_FM)) {
+        throw std::invalid_argument("move: the move leaves the RSR's workspace (joint limits) at " +
+                                    std::to_string(5 * i) + " % of its path");
+      }
+    }
+    StagedOutputDir out(mv_options->out);
+    const TransferTrace trace = RunMoveChain({req}, {duration_s}, setup);
+    WriteOutputs(out, trace, *mv_options, false);
+    out.Commit();
+    if (!mv_options->json) PrintSummaryText(trace.summary, mv_options->out);
+  });
+}
+
+}  // namespace robossis::apps

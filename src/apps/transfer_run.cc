@@ -1,0 +1,344 @@
+#include "src/apps/transfer_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "src/core/units.h"
+
+namespace robossis::apps {
+
+namespace {
+
+using transfer::HcRecord;
+
+// The ideal incremental trajectory: the clean hand through eq. 10–11 alone (no stall, no filter), at hand time.
+void IdealReference(const transfer::HcTrajectory& hc, const transfer::TransferConfig& config, TransferTrace& trace) {
+  transfer::IncrementalMapper mapper(config.mapping, config.caps);
+  Vector6d x = Vector6d::Zero();
+  for (const HcRecord& r : hc.clean_records) {
+    mapper.SetClutch(r.clutch);
+    transfer::MappingIncrement inc;
+    if (mapper.Push(r.ToSample(), inc) == transfer::SampleVerdict::kAccepted) x += inc.delta_F;
+    trace.t_ref.push_back(r.time_s);
+    trace.ref.push_back(x);
+  }
+}
+
+// Linear interpolation of a 1 kHz reference series at time t (clamped at the ends).
+Vector6d InterpAt(const std::vector<double>& ts, const std::vector<Vector6d>& xs, double t) {
+  if (t <= ts.front()) return xs.front();
+  if (t >= ts.back()) return xs.back();
+  const auto it = std::upper_bound(ts.begin(), ts.end(), t);
+  const std::size_t j = static_cast<std::size_t>(it - ts.begin());
+  const double t0 = ts[j - 1], t1 = ts[j];
+  const double f = t1 > t0 ? (t - t0) / (t1 - t0) : 1.0;
+  return xs[j - 1] + f * (xs[j] - xs[j - 1]);
+}
+
+// The hand→set-point delay: the lag (0–500 ms, 0.5 ms steps) that minimises the RMS difference between the
+// set-point velocity and the delayed velocity of the ideal incremental trajectory. Velocities, not positions, so
+// that motion a stall discarded (an offset) does not bias the lag. Linear part, unless the motion is purely angular.
+void EstimateDelay(TransferTrace& tr) {
+  const std::size_t n = tr.t_ref.size();
+  if (n < 3 || tr.t.empty()) return;
+  std::vector<Vector6d> v_ref(n, Vector6d::Zero());
+  for (std::size_t j = 1; j + 1 < n; ++j) {
+    const double span = tr.t_ref[j + 1] - tr.t_ref[j - 1];
+    if (span > 0) v_ref[j] = (tr.ref[j + 1] - tr.ref[j - 1]) / span;
+  }
+  double lin_range = 0, ang_range = 0;
+  for (const Vector6d& r : tr.ref) {
+    lin_range = std::max(lin_range, r.head<3>().norm());
+    ang_range = std::max(ang_range, r.tail<3>().norm());
+  }
+  const int off = lin_range >= 1e-3 || ang_range == 0 ? 0 : 3;
+  std::vector<std::size_t> idx;  // a 1 kHz subsample of the set-point, where the reference exists
+  for (std::size_t k = 0; k < tr.t.size(); k += 10) {
+    if (tr.t[k] >= tr.t_ref.front() && tr.t[k] <= tr.t_ref.back()) idx.push_back(k);
+  }
+  if (idx.empty()) return;
+  double best_cost = std::numeric_limits<double>::infinity(), best_lag = 0;
+  for (int l = 0; l <= 1000; ++l) {
+    const double lag = l * 0.5e-3;
+    double cost = 0;
+    for (std::size_t k : idx) {
+      const Vector6d v = InterpAt(tr.t_ref, v_ref, tr.t[k] - lag);
+      cost += (tr.velocity[k].segment<3>(off) - v.segment<3>(off)).squaredNorm();
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_lag = lag;
+    }
+  }
+  tr.summary.delay_ms = best_lag * 1e3;
+  tr.summary.delay_rms_residual_mm_s = (off == 0 ? MToMm(1.0) : RadToDeg(1.0)) * std::sqrt(best_cost / idx.size());
+  tr.summary.final_tracking_error_mm = MToMm((tr.displacement.back().head<3>() - tr.ref.back().head<3>()).norm());
+}
+
+// Per-tick bookkeeping shared by both chains.
+class Recorder {
+ public:
+  Recorder(TransferTrace& trace, const ChainSetup& setup) : tr_(trace), setup_(setup) {}
+
+  void FastTick(const transfer::RsrSetPoint& sp, double time_s, actuation::Actuator* act) {
+    const double dt = 1.0 / setup_.transfer.rates.actuation_rate_hz;
+    TransferSummary& s = tr_.summary;
+    tr_.t.push_back(time_s);
+    tr_.displacement.push_back(sp.displacement);
+    tr_.velocity.push_back(sp.velocity);
+    tr_.acceleration.push_back(sp.acceleration);
+    s.max_speed_mm_s = std::max(s.max_speed_mm_s, MToMm(sp.velocity.head<3>().norm()));
+    s.max_angular_speed_deg_s = std::max(s.max_angular_speed_deg_s, RadToDeg(sp.velocity.tail<3>().norm()));
+    s.max_accel_mm_s2 = std::max(s.max_accel_mm_s2, MToMm(sp.acceleration.head<3>().norm()));
+    s.max_angular_accel_deg_s2 = std::max(s.max_angular_accel_deg_s2, RadToDeg(sp.acceleration.tail<3>().norm()));
+    if (have_prev_) {
+      s.max_jerk_mm_s3 = std::max(s.max_jerk_mm_s3, MToMm((sp.acceleration.head<3>() - prev_a_).norm() / dt));
+    }
+    prev_a_ = sp.acceleration.head<3>();
+    have_prev_ = true;
+    ++s.ticks;
+    if (act == nullptr) return;
+    const actuation::ActuationOutput& out = act->Tick(time_s, sp.X_FM, sp.velocity);
+    tr_.q.push_back(out.command.q);
+    tr_.q_dot.push_back(out.command.q_dot);
+    tr_.steps.push_back(out.steps);
+    tr_.events.insert(tr_.events.end(), out.events.begin(), out.events.begin() + out.num_events);
+    for (int m = 0; m < 6; ++m) s.steps_error_max = std::max(s.steps_error_max, std::abs(out.step_error[m]));
+    if (out.status == actuation::ActuationStatus::kJointLimit) ++s.limit_ticks;
+    if (out.status == actuation::ActuationStatus::kRateLimit) ++s.rate_limited_ticks;
+    const robot::RsrIkResult ik = robot::CalcInverseKinematics(*setup_.model, sp.X_FM);
+    if (ik.feasible) {
+      s.max_joint_ik_error = std::max(s.max_joint_ik_error, (ik.joints.actuated() - out.command.q).cwiseAbs().maxCoeff());
+    }
+  }
+
+  void Finish(actuation::Actuator* act) {
+    TransferSummary& s = tr_.summary;
+    s.num_events = tr_.events.size();
+    if (act != nullptr) {
+      tr_.q_start = act->q_start();
+      for (int m = 0; m < 6; ++m) {
+        s.steps_total[m] = act->output().steps[m];
+        s.steps_commanded[m] = (act->q()[m] - act->q_start()[m]) * act->config().motors[m].steps_per_unit;
+      }
+      // Highest step rate per motor over 10 ms windows.
+      std::array<std::vector<double>, 6> times;
+      for (const auto& e : tr_.events) times[e.motor].push_back(e.time_s);
+      for (const auto& ts : times) {
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < ts.size(); ++i) {
+          while (ts[i] - ts[j] > 0.010) ++j;
+          s.max_step_rate_hz = std::max(s.max_step_rate_hz, (i - j + 1) / 0.010);
+        }
+      }
+    }
+  }
+
+ private:
+  TransferTrace& tr_;
+  const ChainSetup& setup_;
+  Eigen::Vector3d prev_a_ = Eigen::Vector3d::Zero();
+  bool have_prev_ = false;
+};
+
+}  // namespace
+
+TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup) {
+  if (hc.records.empty()) throw std::invalid_argument("transfer: the HC trajectory has no samples");
+  TransferTrace tr;
+  transfer::MotionTransfer mt(setup.transfer, setup.X_FM_start);
+  std::unique_ptr<actuation::Actuator> act;
+  const double t0 = hc.records.front().arrival_s;
+  if (setup.with_actuation) act = std::make_unique<actuation::Actuator>(*setup.model, setup.actuation, setup.X_FM_start, t0);
+  double t_end = 0;
+  for (const HcRecord& r : hc.records) t_end = std::max({t_end, r.arrival_s, r.time_s});
+  t_end += setup.settle_s;
+  const double dt_slow = 1.0 / setup.transfer.rates.transfer_rate_hz;
+  const int ratio = setup.transfer.rates.upsampling_ratio();
+  const double dt_fast = dt_slow / ratio;
+  const std::size_t n_slow = static_cast<std::size_t>(std::ceil((t_end - t0) / dt_slow));
+  tr.t.reserve(n_slow * ratio);
+  Recorder rec(tr, setup);
+  std::size_t next = 0;
+  Vector6d hc_view = hc.records.front().pose_mm_deg;
+  for (std::size_t k = 0; k < n_slow; ++k) {
+    const double t_slow = t0 + k * dt_slow;
+    // Deliver what has arrived by this tick (a stall delivers a burst).
+    while (next < hc.records.size() && hc.records[next].arrival_s <= t_slow + 1e-12) {
+      const HcRecord& r = hc.records[next++];
+      mt.SetClutch(r.clutch);
+      mt.PushHcSample(r.ToSample());
+      hc_view = r.pose_mm_deg;
+    }
+    mt.TransferTick();
+    tr.t_slow.push_back(t_slow);
+    tr.goal.push_back(mt.tick_info().goal);
+    tr.hc_view.push_back(hc_view);
+    tr.scale_linear.push_back(mt.tick_info().scale_linear);
+    tr.scale_angular.push_back(mt.tick_info().scale_angular);
+    tr.hc_speed.push_back(mt.tick_info().hc_speed_m_s);
+    tr.summary.max_hc_speed_mm_s = std::max(tr.summary.max_hc_speed_mm_s, MToMm(mt.tick_info().hc_speed_m_s));
+    for (int j = 0; j < ratio; ++j) {
+      const transfer::RsrSetPoint& sp = mt.ActuationTick();
+      rec.FastTick(sp, t0 + (k * ratio + j + 1) * dt_fast, act.get());
+    }
+  }
+  tr.summary.counters = mt.counters();
+  rec.Finish(act.get());
+  IdealReference(hc, setup.transfer, tr);
+  EstimateDelay(tr);
+  return tr;
+}
+
+TransferTrace RunMoveChain(const std::vector<transfer::TimedMoveRequest>& moves, const std::vector<double>& durations,
+                           const ChainSetup& setup) {
+  TransferTrace tr;
+  actuation::Actuator act(*setup.model, setup.actuation, setup.X_FM_start, 0.0);
+  Recorder rec(tr, setup);
+  const double dt = 1.0 / setup.transfer.rates.actuation_rate_hz;
+  Eigen::Isometry3d X = setup.X_FM_start;
+  double t_start = 0;
+  std::size_t tick = 0;
+  Vector6d base = Vector6d::Zero();
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    transfer::TimedMoveRequest req = moves[i];
+    req.start_time_s = t_start;
+    const transfer::TimedMove move(X, req, durations[i]);
+    const double t_end = move.end_time_s() + (i + 1 == moves.size() ? setup.settle_s : 0.0);
+    while ((tick + 1) * dt <= t_end + 1e-12) {
+      ++tick;
+      transfer::RsrSetPoint sp = move.Evaluate(tick * dt);
+      sp.displacement += base;
+      rec.FastTick(sp, tick * dt, &act);
+      tr.t_ref.push_back(tick * dt);
+      tr.ref.push_back(sp.displacement);
+    }
+    base.head<3>() += req.delta_p_F;
+    base.tail<3>() += req.delta_rot_F;
+    X = move.X_FM_end();
+    t_start = move.end_time_s();
+  }
+  rec.Finish(&act);
+  tr.summary.delay_ms = 0;  // eq. 9 is evaluated directly at 10 kHz: no filter, no delay
+  return tr;
+}
+
+nlohmann::ordered_json SummaryJson(const TransferSummary& s) {
+  nlohmann::ordered_json j;
+  j["max_speed_mm_s"] = s.max_speed_mm_s;
+  j["max_angular_speed_deg_s"] = s.max_angular_speed_deg_s;
+  j["max_accel_mm_s2"] = s.max_accel_mm_s2;
+  j["max_jerk_mm_s3"] = s.max_jerk_mm_s3;
+  j["delay_ms"] = s.delay_ms;
+  j["steps_error_max"] = s.steps_error_max;
+  j["max_angular_accel_deg_s2"] = s.max_angular_accel_deg_s2;
+  j["delay_velocity_rms_residual"] = s.delay_rms_residual_mm_s;
+  j["final_tracking_error_mm"] = s.final_tracking_error_mm;
+  j["max_hc_speed_mm_s"] = s.max_hc_speed_mm_s;
+  j["max_joint_ik_error"] = s.max_joint_ik_error;
+  j["steps_total"] = s.steps_total;
+  j["steps_commanded"] = s.steps_commanded;
+  j["step_events"] = s.num_events;
+  j["max_step_rate_hz"] = s.max_step_rate_hz;
+  j["ticks_10khz"] = s.ticks;
+  j["joint_limit_ticks"] = s.limit_ticks;
+  j["rate_limited_ticks"] = s.rate_limited_ticks;
+  j["hc_samples"] = {{"accepted", s.counters.accepted}, {"anchored", s.counters.anchored},
+                     {"repeated", s.counters.repeated}, {"late", s.counters.late},
+                     {"invalid", s.counters.invalid}, {"clutch_open", s.counters.clutch_open}};
+  j["dropped_backlog_mm"] = MToMm(s.counters.dropped_backlog_m);
+  return j;
+}
+
+namespace {
+void Append(std::string& out, const char* fmt, double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  out += buf;
+}
+}  // namespace
+
+std::string SetPointsCsv(const TransferTrace& tr, int decimate) {
+  std::string out =
+      "time_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg,vx_mm_s,vy_mm_s,vz_mm_s,speed_mm_s,angular_speed_deg_s,"
+      "ax_mm_s2,ay_mm_s2,az_mm_s2,accel_mm_s2\n";
+  out.reserve(tr.t.size() / decimate * 160);
+  for (std::size_t k = 0; k < tr.t.size(); k += decimate) {
+    Append(out, "%.5f", tr.t[k]);
+    for (int i = 0; i < 3; ++i) Append(out, ",%.6f", MToMm(tr.displacement[k][i]));
+    for (int i = 3; i < 6; ++i) Append(out, ",%.6f", RadToDeg(tr.displacement[k][i]));
+    for (int i = 0; i < 3; ++i) Append(out, ",%.5f", MToMm(tr.velocity[k][i]));
+    Append(out, ",%.5f", MToMm(tr.velocity[k].head<3>().norm()));
+    Append(out, ",%.5f", RadToDeg(tr.velocity[k].tail<3>().norm()));
+    for (int i = 0; i < 3; ++i) Append(out, ",%.4f", MToMm(tr.acceleration[k][i]));
+    Append(out, ",%.4f", MToMm(tr.acceleration[k].head<3>().norm()));
+    out += '\n';
+  }
+  return out;
+}
+
+std::string JointsCsv(const TransferTrace& tr, int decimate) {
+  std::string out = "time_s,theta1_deg,theta2_deg,theta3_deg,d1_mm,d2_mm,d3_mm,theta1_dot_deg_s,theta2_dot_deg_s,"
+                    "theta3_dot_deg_s,d1_dot_mm_s,d2_dot_mm_s,d3_dot_mm_s,steps1,steps2,steps3,steps4,steps5,steps6\n";
+  for (std::size_t k = 0; k < tr.q.size(); k += decimate) {
+    Append(out, "%.5f", tr.t[k]);
+    for (int i = 0; i < 3; ++i) Append(out, ",%.7f", RadToDeg(tr.q[k][i]));
+    for (int i = 3; i < 6; ++i) Append(out, ",%.6f", MToMm(tr.q[k][i]));
+    for (int i = 0; i < 3; ++i) Append(out, ",%.6f", RadToDeg(tr.q_dot[k][i]));
+    for (int i = 3; i < 6; ++i) Append(out, ",%.6f", MToMm(tr.q_dot[k][i]));
+    for (int i = 0; i < 6; ++i) {
+      out += ',';
+      out += std::to_string(tr.steps[k][i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string PulsesCsv(const TransferTrace& tr) {
+  std::string out = "time_s,motor,direction\n";
+  out.reserve(tr.events.size() * 24);
+  for (const auto& e : tr.events) {
+    Append(out, "%.7f", e.time_s);
+    out += ',';
+    out += std::to_string(e.motor + 1);
+    out += e.direction > 0 ? ",1\n" : ",-1\n";
+  }
+  return out;
+}
+
+std::string SlowTraceCsv(const TransferTrace& tr) {
+  std::string out = "time_s,hc_x_mm,hc_y_mm,hc_z_mm,hc_speed_mm_s,scale_linear,scale_angular,goal_x_mm,goal_y_mm,"
+                    "goal_z_mm\n";
+  for (std::size_t k = 0; k < tr.t_slow.size(); ++k) {
+    Append(out, "%.4f", tr.t_slow[k]);
+    for (int i = 0; i < 3; ++i) Append(out, ",%.5f", tr.hc_view[k][i]);
+    Append(out, ",%.4f", MToMm(tr.hc_speed[k]));
+    Append(out, ",%.5f", tr.scale_linear[k]);
+    Append(out, ",%.5f", tr.scale_angular[k]);
+    for (int i = 0; i < 3; ++i) Append(out, ",%.5f", MToMm(tr.goal[k][i]));
+    out += '\n';
+  }
+  return out;
+}
+
+std::string HcRecordsCsv(const transfer::HcTrajectory& hc) {
+  std::string out = "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,clutch,arrival_s\n";
+  std::vector<HcRecord> by_time = hc.records;  // the file format is in time order; arrival_s keeps the delivery
+  std::stable_sort(by_time.begin(), by_time.end(),
+                   [](const HcRecord& a, const HcRecord& b) { return a.time_s < b.time_s; });
+  for (const HcRecord& r : by_time) {
+    Append(out, "%.4f", r.time_s);
+    for (int i = 0; i < 6; ++i) Append(out, ",%.6f", r.pose_mm_deg[i]);
+    out += r.clutch ? ",1" : ",0";
+    Append(out, ",%.4f", r.arrival_s);
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace robossis::apps
