@@ -48,7 +48,10 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
                 << "Every number below is computed by this run; the data behind each table and figure is in this "
                    "folder.\n\n";
     using Section = void (*)(DemoContext&);
-    for (const Section section : {&WriteRobotSection, &WriteWorkspaceSection, &WriteRenderingSection, &WriteTransferSection, &WriteSimSection, &WriteTrackingSection}) section(demo);
+    const Section sections[] = {&WriteRobotSection,    &WriteWorkspaceSection, &WriteRenderingSection,
+                                &WriteTransferSection, &WriteSimSection,       &WriteTrackingSection,
+                                &WriteChainSection};
+    for (const Section section : sections) section(demo);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     demo.report << "---\nRun time: " << seconds << " s.\n";

@@ -26,11 +26,12 @@ struct DemoContext {
 };
 
 // The sections, in report order.
-void WriteRobotSection(DemoContext& demo);
-void WriteWorkspaceSection(DemoContext& demo);
-void WriteSimSection(DemoContext& demo);
-void WriteTrackingSection(DemoContext& demo);  // ## 6. Tracking accuracy (calibration/)
-void WriteRenderingSection(DemoContext& demo);
-void WriteTransferSection(DemoContext& demo);
+void WriteRobotSection(DemoContext& demo);      // ## 1. The robots (robot/)
+void WriteWorkspaceSection(DemoContext& demo);  // ## 2. Workspaces (geometry/)
+void WriteRenderingSection(DemoContext& demo);  // ## 3. Haptic rendering (haptics/)
+void WriteTransferSection(DemoContext& demo);   // ## 4. Motion transfer and actuation (haptics/transfer, robot/actuation)
+void WriteSimSection(DemoContext& demo);        // ## 5. Simulation (robot/sim)
+void WriteTrackingSection(DemoContext& demo);   // ## 6. Tracking accuracy (calibration/)
+void WriteChainSection(DemoContext& demo);      // ## 7. The whole follower chain: transfer -> actuation -> Bullet
 
 }  // namespace robossis::apps
