@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "src/core/config.h"
 #include "haptics/transfer/hc_trajectory.h"
 #include "haptics/transfer/transfer_config.h"
 
@@ -79,7 +80,7 @@ TEST(HcTrajectoryTest, Fig8ScenarioHasTheBreakage) {
 }
 
 TEST(TransferConfigTest, DefaultYamlLoadsAndBadValuesAreNamed) {
-  const std::filesystem::path dir = std::filesystem::path(std::getenv("ROBOSSIS_DATA_DIR")) / "config";
+  const std::filesystem::path dir = DefaultDataDir() / "config";
   const TransferConfig c = TransferConfig::FromYaml(dir / "transfer.yaml");
   EXPECT_DOUBLE_EQ(c.caps.max_linear_speed_m_s, 0.010);  // [paper] 10 mm/s
   std::ifstream in(dir / "transfer.yaml");
