@@ -1,8 +1,5 @@
 // The command line as a user meets it: outputs, and a one-line error with a non-zero exit for bad input.
 
-#include <sys/wait.h>
-
-#include <array>
 #include <cstdio>
 #include <string>
 
@@ -10,26 +7,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/robossis_cli.h"
+
 namespace {
 
 using ::testing::HasSubstr;
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-CommandRun Robossis(const std::string& args) {
-  const std::string command = std::string(ROBOSSIS_BINARY) + " " + args + " 2>&1";
-  CommandRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+using robossis::testing::CommandRun;
+using robossis::testing::Robossis;
 
 nlohmann::json JsonOf(const CommandRun& run) {
   EXPECT_EQ(run.exit_code, 0) << run.output;

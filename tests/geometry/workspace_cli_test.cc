@@ -1,10 +1,7 @@
 // `robossis workspace ...` as a user meets it.
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,26 +9,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/robossis_cli.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string output;
-};
-
-CommandRun Robossis(const std::string& args, bool with_stderr = true) {
-  const std::string command = std::string(ROBOSSIS_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-  CommandRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+using robossis::testing::CommandRun;
+using robossis::testing::Robossis;
 
 class WorkspaceCliTest : public ::testing::Test {
  protected:

@@ -1,9 +1,5 @@
 // `robossis render-compare` as a user meets it.
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,26 +8,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/robossis_cli.h"
+
 namespace {
 
 using ::testing::HasSubstr;
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string output;
-};
-
-CommandRun Robossis(const std::string& args) {
-  const std::string command = std::string(ROBOSSIS_BINARY) + " " + args + " 2>&1";
-  CommandRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+using robossis::testing::CommandRun;
+using robossis::testing::Robossis;
 
 TEST(RenderCompareCli, WritesSummaryTracesAndTable) {
   const std::filesystem::path out = std::filesystem::temp_directory_path() / "robossis_render_compare_cli";
