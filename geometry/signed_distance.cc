@@ -1,18 +1,16 @@
-// FCL unsigned distance + angle-weighted pseudonormal sign (Baerentzen & Aanaes 2005).
+// Nearest triangle through FCL's bounding-volume tree + angle-weighted pseudonormal sign (Baerentzen & Aanaes 2005).
 
 #include "geometry/signed_distance.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
 #include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/geometry/shape/sphere.h>
-#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
-#include <fcl/narrowphase/detail/traversal/collision_node.h>
-#include <fcl/narrowphase/detail/traversal/distance/mesh_shape_distance_traversal_node.h>
-#include <fcl/narrowphase/distance.h>
+#include <fcl/math/bv/RSS.h>
 
 namespace robossis::geometry {
 
@@ -61,7 +59,7 @@ double AngleAt(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::
 }  // namespace
 
 struct BoundaryDistanceField::Impl {
-  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh;
+  std::shared_ptr<fcl::BVHModel<fcl::RSSd>> bvh;  // FCL builds and fits the tree; we traverse it
   std::vector<Eigen::Vector3d> face_normal;                 // unit, outward
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;  // per triangle: edges 01, 12, 20 (unit pseudonormals)
   std::vector<Eigen::Vector3d> vertex_normal;               // angle-weighted, unit
@@ -120,51 +118,75 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh) : mesh_(std::mov
       m.edge_normal[t][e] = (m.face_normal[t] + m.face_normal[neighbour]).normalized();
     }
   }
-  m.bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  m.bvh = std::make_shared<fcl::BVHModel<fcl::RSSd>>();
   std::vector<fcl::Triangle> triangles;
   triangles.reserve(T.size());
   for (const Eigen::Vector3i& t : T) triangles.emplace_back(t[0], t[1], t[2]);
   m.bvh->beginModel(static_cast<int>(T.size()), static_cast<int>(V.size()));
   m.bvh->addSubModel(V, triangles);
   m.bvh->endModel();
-  m.bvh->computeLocalAABB();
 }
 
 BoundaryDistanceField::~BoundaryDistanceField() = default;
 
 struct SignedDistanceQuery::State {
-  // FCL's own traversal node for OBBRSS mesh vs shape, driven directly: fcl::distance() would rebuild the point's
-  // bounding volume through Sphere::getBoundVertices(), which allocates a std::vector on every call.
-  using Solver = fcl::detail::GJKSolver_libccd<double>;  // DEPENDENCIES.md: GST_INDEP is broken in FCL 0.7
-  using Node = fcl::detail::MeshShapeDistanceTraversalNodeOBBRSS<fcl::Sphered, Solver>;
-  fcl::Sphered point{0.0};  // a zero-radius sphere: FCL's point query
-  Solver solver;
-  fcl::DistanceRequestd request;
-  fcl::DistanceResultd result;
-  Node node;
   // Warm start: the previous query's field and closest triangle. In a haptic loop the point moves little between
   // ticks, so the distance to the previous closest triangle is a tight upper bound that prunes most of the tree.
   const BoundaryDistanceField* last_field = nullptr;
   int last_triangle = -1;
-  State() {
-    request.enable_nearest_points = false;  // only the closest triangle is needed; its point is recomputed exactly
-    request.enable_signed_distance = false;
-    request.rel_err = 0;
-    request.abs_err = 0;
-    node.request = request;
-    node.result = &result;
-    node.model2 = &point;
-    node.nsolver = &solver;
-    node.tf1 = fcl::Transform3d::Identity();
-    node.tf2 = fcl::Transform3d::Identity();
-    // The point's bounding volume: a degenerate OBB and RSS at the point, axes along the frame.
-    node.model2_bv.obb.axis.setIdentity();
-    node.model2_bv.obb.extent.setZero();
-    node.model2_bv.rss.axis.setIdentity();
-    node.model2_bv.rss.l[0] = node.model2_bv.rss.l[1] = 0;
-    node.model2_bv.rss.r = 0;
+};
+
+namespace {
+
+// Lower bound of the distance from p to anything inside an RSS (rectangle swept sphere): the distance from p to the
+// rectangle (corner at To, sides l[0], l[1] along the first two columns of `axis`) minus the sweep radius.
+double DistanceToRss(const fcl::RSSd& rss, const Eigen::Vector3d& p) noexcept {
+  const Eigen::Vector3d local = rss.axis.transpose() * (p - rss.To);
+  const double dx = local.x() - std::clamp(local.x(), 0.0, rss.l[0]);
+  const double dy = local.y() - std::clamp(local.y(), 0.0, rss.l[1]);
+  return std::max(0.0, std::sqrt(dx * dx + dy * dy + local.z() * local.z()) - rss.r);
+}
+
+// Branch-and-bound nearest-triangle search over FCL's tree: nearer child first, prune a subtree whose bound is not
+// below the best distance so far. Exact (the leaves use the exact point-triangle distance), allocation-free; the
+// recursion depth is the tree depth.
+struct NearestTriangleSearch {
+  const fcl::BVHModel<fcl::RSSd>& bvh;
+  const TriangleMesh& mesh;
+  const Eigen::Vector3d& q;
+  double best_squared;
+  int best_triangle;
+
+  double SquaredDistanceToTriangle(int t) const noexcept {
+    const Eigen::Vector3i& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    Feature unused;
+    return (q - ClosestPointOnTriangle(q, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]],
+                                       &unused)).squaredNorm();
+  }
+
+  void Visit(int node_id) noexcept {
+    const fcl::BVNode<fcl::RSSd>& node = bvh.getBV(node_id);
+    if (node.isLeaf()) {
+      const int t = node.primitiveId();
+      const double d2 = SquaredDistanceToTriangle(t);
+      if (d2 < best_squared) {
+        best_squared = d2;
+        best_triangle = t;
+      }
+      return;
+    }
+    int near = node.leftChild(), far = node.rightChild();
+    double near_bound = DistanceToRss(bvh.getBV(near).bv, q), far_bound = DistanceToRss(bvh.getBV(far).bv, q);
+    if (far_bound < near_bound) {
+      std::swap(near, far);
+      std::swap(near_bound, far_bound);
+    }
+    if (near_bound * near_bound < best_squared) Visit(near);
+    if (far_bound * far_bound < best_squared) Visit(far);
   }
 };
+
+}  // namespace
 
 SignedDistanceQuery::SignedDistanceQuery() : state_(new State) {}
 SignedDistanceQuery::~SignedDistanceQuery() = default;
@@ -178,33 +200,22 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   if (!q.allFinite() || !std::isfinite(radius) || radius < 0) return out->status = QueryStatus::kNonFinite;
   State& s = *state_;
   const BoundaryDistanceField::Impl& m = field->impl();
-  fcl::BVHModel<fcl::OBBRSSd>& bvh = *m.bvh;
-  s.result.clear();
+  NearestTriangleSearch search{*m.bvh, field->mesh(), q, std::numeric_limits<double>::infinity(), -1};
   if (s.last_field == field && s.last_triangle >= 0) {
-    // Seed the result with the exact distance to the previous closest triangle: FCL then only visits bounding
-    // volumes that could hold something closer, and the answer is still the global minimum.
-    const Eigen::Vector3i& prev = field->mesh().triangles[static_cast<std::size_t>(s.last_triangle)];
-    const auto& PV = field->mesh().vertices;
-    Feature unused;
-    s.result.min_distance = (q - ClosestPointOnTriangle(q, PV[prev[0]], PV[prev[1]], PV[prev[2]], &unused)).norm();
-    s.result.b1 = s.last_triangle;
-    s.result.o1 = &bvh;
-    s.result.o2 = &s.point;
+    // Seed the search with the exact distance to the previous closest triangle: only bounding volumes that could
+    // hold something closer are visited, and the answer is still the global minimum.
+    search.best_triangle = s.last_triangle;
+    search.best_squared = search.SquaredDistanceToTriangle(s.last_triangle);
   }
-  s.node.model1 = &bvh;
-  s.node.vertices = bvh.vertices;
-  s.node.tri_indices = bvh.tri_indices;
-  s.node.tf2.translation() = q;
-  s.node.model2_bv.obb.To = q;
-  s.node.model2_bv.rss.To = q;
-  fcl::detail::distance(&s.node, nullptr, 2);
-  const intptr_t t = s.result.b1;
+  const double root_bound = DistanceToRss(m.bvh->getBV(0).bv, q);
+  if (root_bound * root_bound < search.best_squared) search.Visit(0);
+  const int t = search.best_triangle;
   if (t < 0 || static_cast<std::size_t>(t) >= field->mesh().triangles.size()) {
     s.last_field = nullptr;
     return out->status = QueryStatus::kFclFailure;
   }
   s.last_field = field;
-  s.last_triangle = static_cast<int>(t);
+  s.last_triangle = t;
   const Eigen::Vector3i& tri = field->mesh().triangles[static_cast<std::size_t>(t)];
   const auto& V = field->mesh().vertices;
   Feature feature = Feature::kFace;

@@ -2,9 +2,12 @@
 // Signed penetration query against a closed boundary mesh, with FCL (design card: "workspace boundary precomputed
 // as meshes, queried with FCL for penetration depth").
 //
-// FCL 0.7's mesh distance is unsigned (DEPENDENCIES.md), so the query is done in two steps:
-//   1. FCL: unsigned distance from a zero-radius sphere at q to the mesh's OBBRSS tree -> the closest triangle;
-//   2. the closest point on that triangle is recomputed exactly, and the sign is taken from the angle-weighted
+// FCL 0.7's mesh distance is unsigned (DEPENDENCIES.md), and its sphere-vs-mesh traversal (rectangle-rectangle
+// bounds, a GJK solve per candidate triangle) measured ~4x slower than the search below (BENCHMARKS.md), so the
+// query is done in two steps:
+//   1. FCL builds and fits the mesh's bounding-volume tree (RSS: rectangle swept spheres); a branch-and-bound search
+//      over that tree with the exact point-triangle distance at the leaves finds the closest triangle;
+//   2. the closest point on that triangle is exact, and the sign is taken from the angle-weighted
 //      pseudonormal of the closest feature (face, edge or vertex) -- Baerentzen & Aanaes, "Signed distance
 //      computation using the angle weighted pseudonormal", IEEE TVCG 11(3), 2005: for a closed, consistently
 //      oriented mesh, (q - c) . n_feature > 0 exactly when q is outside.
@@ -33,7 +36,7 @@ enum class QueryStatus : std::uint8_t {
   kOk = 0,
   kNoField,     // null field pointer (e.g. the atlas has no slice for this pose)
   kNonFinite,   // the query point or radius is NaN/inf, or the radius is negative
-  kFclFailure,  // FCL returned no closest triangle (cannot happen for a valid field; reported, not thrown)
+  kFclFailure,  // the tree search found no closest triangle (cannot happen for a valid field; reported, not thrown)
 };
 const char* ToString(QueryStatus status);
 
@@ -54,7 +57,7 @@ struct SignedDistanceResult {
   bool inside = false;  // q (the centre) is inside the region
 };
 
-// An immutable closed mesh prepared for queries: FCL OBBRSS tree, face normals and angle-weighted pseudonormals of
+// An immutable closed mesh prepared for queries: FCL RSS tree, face normals and angle-weighted pseudonormals of
 // every edge and vertex. Thread-safe to query from several threads (each with its own SignedDistanceQuery).
 class BoundaryDistanceField {
  public:
@@ -77,7 +80,7 @@ class BoundaryDistanceField {
   std::unique_ptr<Impl> impl_;
 };
 
-// The reusable per-thread query object: owns the preallocated FCL sphere, request and result.
+// The reusable per-thread query object: holds the warm start (previous field and closest triangle).
 class SignedDistanceQuery {
  public:
   SignedDistanceQuery();
@@ -89,7 +92,7 @@ class SignedDistanceQuery {
 
   // Signed distance of the sphere (centre q, radius >= 0, slice units) against `field` (may be null -> kNoField).
   // Fills *out and returns out->status. Allocation-free, noexcept. Consecutive queries against the same field are
-  // warm-started from the previous closest triangle (exact: it only tightens FCL's pruning bound), so a slowly
+  // warm-started from the previous closest triangle (exact: it only tightens the pruning bound), so a slowly
   // moving point -- the haptic tick -- is cheaper than a random one. The field must outlive its last query.
   QueryStatus Query(const BoundaryDistanceField* field, const Eigen::Vector3d& q, double radius,
                     SignedDistanceResult* out) noexcept;

@@ -3,6 +3,7 @@
 #include "geometry/signed_distance.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -137,6 +138,28 @@ TEST_F(SliceQueryTest, SignAgreesWithIkOnRandomPointsNearTheBoundary) {
   }
   EXPECT_GT(tested, 1000);
   EXPECT_EQ(wrong, 0);
+}
+
+TEST_F(SliceQueryTest, NearestDistanceIsTheMinimumOverAllTriangles) {
+  // The tree search must find the global minimum: compare with a brute-force scan of every triangle, for points
+  // near and far (up to 0.3 m) from the boundary, with a warm-started query object.
+  const BoundaryDistanceField field(slice_.mesh);
+  const auto& V = field.mesh().vertices;
+  SignedDistanceQuery query;
+  std::mt19937 gen{42};
+  std::uniform_int_distribution<std::size_t> pick(0, V.size() - 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 0; n < 200; ++n) {
+    const double spread = n % 2 == 0 ? 0.01 : 0.3;
+    const Eigen::Vector3d q = V[pick(gen)] + spread * Eigen::Vector3d(u(gen), u(gen), u(gen));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3i& t : field.mesh().triangles) {
+      brute = std::min(brute, testing::PointTriangleDistance(q, V[t[0]], V[t[1]], V[t[2]]));
+    }
+    SignedDistanceResult r;
+    ASSERT_EQ(query.Query(&field, q, 0.0, &r), QueryStatus::kOk);
+    EXPECT_NEAR(std::abs(r.signed_distance), brute, 1e-12) << "point " << n;
+  }
 }
 
 TEST_F(SliceQueryTest, AgreesWithTheIndependentReferenceDistance) {

@@ -1,6 +1,7 @@
 #pragma once
 // Small closed meshes with known geometry for the geometry tests.
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -9,6 +10,22 @@
 #include "geometry/triangle_mesh.h"
 
 namespace robossis::geometry::testing {
+
+// Distance from p to the triangle (a, b, c), computed differently from the library (which walks Voronoi regions):
+// the projection onto the plane if it falls inside the triangle, else the nearest of the three edges.
+inline double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c) {
+  auto segment = [&p](const Eigen::Vector3d& s, const Eigen::Vector3d& e) {
+    const double t = std::clamp((p - s).dot(e - s) / (e - s).squaredNorm(), 0.0, 1.0);
+    return (p - (s + t * (e - s))).norm();
+  };
+  const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+  const Eigen::Vector3d x = p - n.dot(p - a) * n;  // projection onto the plane
+  const bool inside = n.dot((b - a).cross(x - a)) >= 0 && n.dot((c - b).cross(x - b)) >= 0 &&
+                      n.dot((a - c).cross(x - c)) >= 0;
+  if (inside) return std::abs(n.dot(p - a));
+  return std::min({segment(a, b), segment(b, c), segment(c, a)});
+}
 
 // Axis-aligned box [lo, hi], outward oriented (12 triangles).
 inline TriangleMesh BoxMesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
