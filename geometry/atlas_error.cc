@@ -3,6 +3,7 @@
 #include "geometry/atlas_error.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -94,6 +95,53 @@ AtlasErrorReport MeasureAtlasError(const robot::RsrModel& rsr, const robot::Sigm
     }
   }
   return report;
+}
+
+LiveErrorReport MeasureLiveError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& range,
+                                 const LiveBoundaryOptions& live_options, const LiveErrorOptions& o) {
+  LiveErrorReport report;
+  LiveBoundary live(rsr, hc, live_options);
+  std::mt19937 gen{o.seed};
+  std::normal_distribution<double> normal;
+  SignedDistanceQuery query;
+  for (int family = 0; family < 2; ++family) {
+    const bool dexterous = family == 0;
+    const SliceKind kind = dexterous ? SliceKind::kRsrDexterous : SliceKind::kRsrRotational;
+    const auto& g = dexterous ? range.orientation_grid : range.position_grid;
+    const double staleness = dexterous ? o.orientation_staleness_rad : o.position_staleness_m;
+    std::vector<double> errors;
+    int not_found = 0, sign_errors = 0;
+    double& seconds_max = dexterous ? report.dexterous_seconds_max : report.rotational_seconds_max;
+    for (int n = 0, attempts = 0; n < o.samples && attempts < 20 * o.samples; ++attempts) {
+      const Eigen::Vector3d actual(Uniform(gen, g[0], false), Uniform(gen, g[1], false), Uniform(gen, g[2], false));
+      const Eigen::Vector3d direction = Eigen::Vector3d(normal(gen), normal(gen), normal(gen)).normalized();
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::unique_ptr<LiveSlice> slice = live.Generate(kind, actual + staleness * direction);
+      seconds_max = std::max(seconds_max, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (!slice) continue;
+      const SliceFeasibility truth(rsr, hc, kind, actual);
+      Sample(*slice->field, truth, dexterous ? o.position_offset_m : o.angle_offset_rad, gen, query, errors, not_found,
+             sign_errors);
+      ++n;
+    }
+    (dexterous ? report.dexterous : report.rotational) = SummariseErrors(std::move(errors), not_found, sign_errors);
+  }
+  return report;
+}
+
+ClinicalLiveError MeasureClinicalLiveError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
+                                           const AtlasSpec& range, const LiveBoundaryOptions& live, int samples,
+                                           std::uint32_t seed) {
+  ClinicalLiveError c;
+  c.timing = MeasureRefreshTiming(rsr, hc, live, rsr.geometry().X_FM_home);
+  c.staleness = WorstCaseStaleness(c.timing, live, kClinicalLinearSpeedMps, kClinicalAngularSpeedRadps);
+  LiveErrorOptions o;
+  o.samples = samples;
+  o.seed = seed;
+  o.orientation_staleness_rad = c.staleness.orientation_rad;
+  o.position_staleness_m = c.staleness.position_m;
+  c.error = MeasureLiveError(rsr, hc, range, live, o);
+  return c;
 }
 
 ErrorStats MeasureSliceError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const WorkspaceSlice& slice,

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/boundary_atlas.h"
+#include "geometry/live_boundary.h"
 #include "geometry/reference_distance.h"
 
 namespace robossis::geometry {
@@ -33,6 +34,36 @@ struct AtlasErrorOptions {
 
 AtlasErrorReport MeasureAtlasError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
                                    const BoundaryAtlas& atlas, const AtlasErrorOptions& options = {});
+
+// The error of the LIVE slices (live_boundary.h): a slice made at a pose that is `staleness` away from the actual
+// pose (the motion during one refresh, plus the refresh tolerance), against the reference at the actual pose. Poses
+// are drawn uniformly over the atlas spec's grid ranges; the stale pose is offset in a random direction.
+struct LiveErrorOptions {
+  int samples = 20;                       // per family
+  double orientation_staleness_rad = 0;   // dexterous slices: |rpy_slice - rpy_actual|
+  double position_staleness_m = 0;        // rotational slices: |p_slice - p_actual|
+  double position_offset_m = 0.003;       // query points: a random mesh vertex + uniform offset in +/- this
+  double angle_offset_rad = 0.0175;
+  std::uint32_t seed = 42;
+};
+struct LiveErrorReport {
+  ErrorStats dexterous;   // m
+  ErrorStats rotational;  // rad
+  double dexterous_seconds_max = 0, rotational_seconds_max = 0;  // slowest slice generation seen (wall clock)
+};
+LiveErrorReport MeasureLiveError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& range,
+                                 const LiveBoundaryOptions& live, const LiveErrorOptions& options);
+
+// The live-slice error at the clinical speeds (kClinical*): the refresh time measured at the home pose, the
+// worst-case staleness it implies (WorstCaseStaleness), and the error of slices that stale.
+struct ClinicalLiveError {
+  RefreshTiming timing;
+  LiveStaleness staleness;
+  LiveErrorReport error;
+};
+ClinicalLiveError MeasureClinicalLiveError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
+                                           const AtlasSpec& range, const LiveBoundaryOptions& live, int samples,
+                                           std::uint32_t seed = 42);
 
 // Mesh-versus-true-boundary error of one slice: signed distance from the mesh (FCL query) against the reference at
 // random points near the boundary.

@@ -293,6 +293,7 @@ void AtlasPoseQuery::Query(const BoundaryAtlas& atlas, const Eigen::Isometry3d& 
   const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
   out->dexterous_slice = atlas.FindDexterous(rpy);
   out->rotational_slice = atlas.FindRotational(p);
+  out->live_dexterous_slice = out->live_rotational_slice = nullptr;
   translation_query_.Query(out->dexterous_slice ? out->dexterous_slice->field.get() : nullptr, p, position_radius_m,
                &out->translation);
   rotation_query_.Query(out->rotational_slice ? out->rotational_slice->field.get() : nullptr, rpy, angle_radius_rad,

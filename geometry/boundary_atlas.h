@@ -94,7 +94,9 @@ using AtlasProgress = std::function<void(int done, int total)>;
 BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& spec,
                          const std::filesystem::path& dir, const AtlasProgress& progress = {});
 
-// Both queries of one RSR pose against the atlas.
+struct LiveSlice;  // live_boundary.h
+
+// Both queries of one RSR pose against the atlas (and, through LivePoseQuery, the live slices).
 struct PoseBoundaryResult {
   // Position of P in F against the dexterous slice of the nearest orientation node: metres, frame F.
   SignedDistanceResult translation;
@@ -102,6 +104,9 @@ struct PoseBoundaryResult {
   SignedDistanceResult rotation;
   const AtlasSlice* dexterous_slice = nullptr;
   const AtlasSlice* rotational_slice = nullptr;
+  // Set by LivePoseQuery when the live slice (made at a pose nearer to the current one) answered instead.
+  const LiveSlice* live_dexterous_slice = nullptr;
+  const LiveSlice* live_rotational_slice = nullptr;
 };
 
 // Real-time pose query: one per thread. Allocation-free and noexcept.

@@ -107,7 +107,7 @@ BoundaryMeshResult ExtractBoundaryMesh(const VoxelGrid& grid, const FeasibilityF
     result.mesh.triangles.emplace_back(static_cast<int>(cell->GetId(0)), static_cast<int>(cell->GetId(1)),
                                        static_cast<int>(cell->GetId(2)));
   }
-  if (ComputeMeshStatistics(result.mesh).volume < 0) FlipOrientation(result.mesh);
+  if (SignedVolume(result.mesh) < 0) FlipOrientation(result.mesh);
   return result;
 }
 

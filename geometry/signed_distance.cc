@@ -3,6 +3,7 @@
 #include "geometry/signed_distance.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -10,7 +11,7 @@
 #include <utility>
 
 #include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/math/bv/RSS.h>
+#include <fcl/math/bv/AABB.h>
 
 namespace robossis::geometry {
 
@@ -59,11 +60,15 @@ double AngleAt(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::
 }  // namespace
 
 struct BoundaryDistanceField::Impl {
-  std::shared_ptr<fcl::BVHModel<fcl::RSSd>> bvh;  // FCL builds and fits the tree; we traverse it
+  std::shared_ptr<fcl::BVHModel<fcl::AABBd>> bvh;  // FCL builds and fits the tree; we traverse it
   std::vector<Eigen::Vector3d> face_normal;                 // unit, outward
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;  // per triangle: edges 01, 12, 20 (unit pseudonormals)
   std::vector<Eigen::Vector3d> vertex_normal;               // angle-weighted, unit
 };
+
+namespace {
+std::atomic<std::uint64_t> next_field_id{0};
+}  // namespace
 
 const char* ToString(QueryStatus status) {
   switch (status) {
@@ -75,8 +80,14 @@ const char* ToString(QueryStatus status) {
   return "unknown";
 }
 
-BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh) : mesh_(std::move(mesh)), impl_(new Impl) {
-  stats_ = ComputeMeshStatistics(mesh_);
+BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh)
+    : BoundaryDistanceField(std::move(mesh), MeshStatistics{}) {}
+
+BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh, const MeshStatistics& stats)
+    : mesh_(std::move(mesh)), stats_(stats), id_(next_field_id.fetch_add(1) + 1), impl_(new Impl) {
+  if (stats_.triangles != mesh_.triangles.size() || stats_.vertices != mesh_.vertices.size()) {
+    stats_ = ComputeMeshStatistics(mesh_);  // not given (or not this mesh's)
+  }
   if (mesh_.triangles.empty()) throw std::invalid_argument("boundary mesh is empty");
   if (!stats_.watertight || !stats_.consistently_oriented) {
     throw std::invalid_argument("boundary mesh is not a closed, consistently oriented surface (watertight=" +
@@ -118,7 +129,10 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh) : mesh_(std::mov
       m.edge_normal[t][e] = (m.face_normal[t] + m.face_normal[neighbour]).normalized();
     }
   }
-  m.bvh = std::make_shared<fcl::BVHModel<fcl::RSSd>>();
+  m.bvh = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
+  // Split at the box centre: the fastest build of FCL's three rules here (0.036 s vs 0.046 s mean, 0.074 s median for
+  // 37k triangles) with the same query times; builds matter because live slices are rebuilt while the hand moves.
+  m.bvh->bv_splitter.reset(new fcl::detail::BVSplitter<fcl::AABBd>(fcl::detail::SPLIT_METHOD_BV_CENTER));
   std::vector<fcl::Triangle> triangles;
   triangles.reserve(T.size());
   for (const Eigen::Vector3i& t : T) triangles.emplace_back(t[0], t[1], t[2]);
@@ -132,26 +146,22 @@ BoundaryDistanceField::~BoundaryDistanceField() = default;
 struct SignedDistanceQuery::State {
   // Warm start: the previous query's field and closest triangle. In a haptic loop the point moves little between
   // ticks, so the distance to the previous closest triangle is a tight upper bound that prunes most of the tree.
-  const BoundaryDistanceField* last_field = nullptr;
+  std::uint64_t last_field_id = 0;  // 0: none
   int last_triangle = -1;
 };
 
 namespace {
 
-// Lower bound of the distance from p to anything inside an RSS (rectangle swept sphere): the distance from p to the
-// rectangle (corner at To, sides l[0], l[1] along the first two columns of `axis`) minus the sweep radius.
-double DistanceToRss(const fcl::RSSd& rss, const Eigen::Vector3d& p) noexcept {
-  const Eigen::Vector3d local = rss.axis.transpose() * (p - rss.To);
-  const double dx = local.x() - std::clamp(local.x(), 0.0, rss.l[0]);
-  const double dy = local.y() - std::clamp(local.y(), 0.0, rss.l[1]);
-  return std::max(0.0, std::sqrt(dx * dx + dy * dy + local.z() * local.z()) - rss.r);
+// Squared distance from p to an axis-aligned box: a lower bound for everything inside it.
+double SquaredDistanceToBox(const fcl::AABBd& box, const Eigen::Vector3d& p) noexcept {
+  return (box.min_ - p).cwiseMax(p - box.max_).cwiseMax(0.0).squaredNorm();
 }
 
 // Branch-and-bound nearest-triangle search over FCL's tree: nearer child first, prune a subtree whose bound is not
 // below the best distance so far. Exact (the leaves use the exact point-triangle distance), allocation-free; the
 // recursion depth is the tree depth.
 struct NearestTriangleSearch {
-  const fcl::BVHModel<fcl::RSSd>& bvh;
+  const fcl::BVHModel<fcl::AABBd>& bvh;
   const TriangleMesh& mesh;
   const Eigen::Vector3d& q;
   double best_squared;
@@ -165,7 +175,7 @@ struct NearestTriangleSearch {
   }
 
   void Visit(int node_id) noexcept {
-    const fcl::BVNode<fcl::RSSd>& node = bvh.getBV(node_id);
+    const fcl::BVNode<fcl::AABBd>& node = bvh.getBV(node_id);
     if (node.isLeaf()) {
       const int t = node.primitiveId();
       const double d2 = SquaredDistanceToTriangle(t);
@@ -176,13 +186,14 @@ struct NearestTriangleSearch {
       return;
     }
     int near = node.leftChild(), far = node.rightChild();
-    double near_bound = DistanceToRss(bvh.getBV(near).bv, q), far_bound = DistanceToRss(bvh.getBV(far).bv, q);
+    double near_bound = SquaredDistanceToBox(bvh.getBV(near).bv, q);
+    double far_bound = SquaredDistanceToBox(bvh.getBV(far).bv, q);
     if (far_bound < near_bound) {
       std::swap(near, far);
       std::swap(near_bound, far_bound);
     }
-    if (near_bound * near_bound < best_squared) Visit(near);
-    if (far_bound * far_bound < best_squared) Visit(far);
+    if (near_bound < best_squared) Visit(near);
+    if (far_bound < best_squared) Visit(far);
   }
 };
 
@@ -201,20 +212,19 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   State& s = *state_;
   const BoundaryDistanceField::Impl& m = field->impl();
   NearestTriangleSearch search{*m.bvh, field->mesh(), q, std::numeric_limits<double>::infinity(), -1};
-  if (s.last_field == field && s.last_triangle >= 0) {
+  if (s.last_field_id == field->id() && s.last_triangle >= 0) {
     // Seed the search with the exact distance to the previous closest triangle: only bounding volumes that could
     // hold something closer are visited, and the answer is still the global minimum.
     search.best_triangle = s.last_triangle;
     search.best_squared = search.SquaredDistanceToTriangle(s.last_triangle);
   }
-  const double root_bound = DistanceToRss(m.bvh->getBV(0).bv, q);
-  if (root_bound * root_bound < search.best_squared) search.Visit(0);
+  if (SquaredDistanceToBox(m.bvh->getBV(0).bv, q) < search.best_squared) search.Visit(0);
   const int t = search.best_triangle;
   if (t < 0 || static_cast<std::size_t>(t) >= field->mesh().triangles.size()) {
-    s.last_field = nullptr;
+    s.last_field_id = 0;
     return out->status = QueryStatus::kFclFailure;
   }
-  s.last_field = field;
+  s.last_field_id = field->id();
   s.last_triangle = t;
   const Eigen::Vector3i& tri = field->mesh().triangles[static_cast<std::size_t>(t)];
   const auto& V = field->mesh().vertices;

@@ -64,12 +64,18 @@ class BoundaryDistanceField {
   // Throws std::invalid_argument if the mesh is empty, not watertight or not consistently oriented (the sign
   // would be meaningless). An inward-oriented mesh is flipped.
   explicit BoundaryDistanceField(TriangleMesh mesh);
+  // The same with the mesh's statistics already computed (ComputeMeshStatistics of this very mesh, e.g.
+  // WorkspaceSlice::stats): saves recomputing them when a slice is refreshed while the hand moves.
+  BoundaryDistanceField(TriangleMesh mesh, const MeshStatistics& stats);
   ~BoundaryDistanceField();
   BoundaryDistanceField(const BoundaryDistanceField&) = delete;
   BoundaryDistanceField& operator=(const BoundaryDistanceField&) = delete;
 
   const TriangleMesh& mesh() const { return mesh_; }
   const MeshStatistics& stats() const { return stats_; }
+  // Unique per field ever constructed in this process (a freed field's address may be reused by the next one, so
+  // the query's warm start identifies fields by this, not by address).
+  std::uint64_t id() const { return id_; }
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -77,6 +83,7 @@ class BoundaryDistanceField {
  private:
   TriangleMesh mesh_;
   MeshStatistics stats_;
+  std::uint64_t id_;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -75,6 +75,23 @@ MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh) {
   return s;
 }
 
+double SignedVolume(const TriangleMesh& mesh) {
+  if (mesh.vertices.empty()) return 0;
+  Eigen::Vector3d lo = mesh.vertices.front(), hi = lo;
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);  // reduces round-off in the sum
+  double six_volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[t[0]] - centre, b = mesh.vertices[t[1]] - centre,
+                          c = mesh.vertices[t[2]] - centre;
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
+}
+
 void FlipOrientation(TriangleMesh& mesh) {
   for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);
 }

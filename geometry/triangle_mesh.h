@@ -32,6 +32,8 @@ struct MeshStatistics {
 };
 
 MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);
+// The signed enclosed volume alone (positive for an outward-oriented closed mesh); cheaper than the statistics.
+double SignedVolume(const TriangleMesh& mesh);
 
 // Reverses every triangle (turns an inward-oriented mesh outward).
 void FlipOrientation(TriangleMesh& mesh);

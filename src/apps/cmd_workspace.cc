@@ -8,6 +8,7 @@
 
 #include "geometry/atlas_error.h"
 #include "geometry/boundary_atlas.h"
+#include "geometry/live_boundary.h"
 #include "src/apps/app_context.h"
 #include "src/apps/workspace_json.h"
 #include "src/core/files.h"
@@ -198,13 +199,24 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
       std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", at->error_samples);
       geometry::AtlasErrorOptions options;
       options.samples = at->error_samples;
-      const json err = AtlasErrorJson(geometry::MeasureAtlasError(rsr, sigma7, atlas, options));
-      WriteFileAtomically(std::filesystem::path(at->out) / "atlas_error.json", err.dump(2) + "\n");
+      json err = AtlasErrorJson(geometry::MeasureAtlasError(rsr, sigma7, atlas, options));
       std::printf("grid-spacing error (off-grid poses): dexterous p95 %.3f mm, max %.3f mm; rotational p95 %.3f "
-                  "deg, max %.3f deg (atlas_error.json)\n",
+                  "deg, max %.3f deg\n",
                   err["dexterous_mm"]["off_grid"]["p95"].get<double>(), err["dexterous_mm"]["off_grid"]["max"].get<double>(),
                   err["rotational_deg"]["off_grid"]["p95"].get<double>(),
                   err["rotational_deg"]["off_grid"]["max"].get<double>());
+      std::fprintf(stderr, "measuring the live-slice error at clinical speeds (%d poses per family)...\n",
+                   at->error_samples);
+      const geometry::LiveBoundaryOptions live;
+      err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, at->error_samples), live);
+      const json& l = err["live"];
+      std::printf("live slices (refreshed at the pose; %.3f s + %.3f s per refresh; staleness %.3f deg / %.2f mm at "
+                  "2 mm/s, 0.2 deg/s): dexterous p95 %.3f mm, max %.3f mm; rotational p95 %.3f deg, max %.3f deg\n",
+                  l["refresh_s"]["dexterous"].get<double>(), l["refresh_s"]["rotational"].get<double>(),
+                  l["staleness"]["orientation_deg"].get<double>(), l["staleness"]["position_mm"].get<double>(),
+                  l["dexterous_mm"]["p95"].get<double>(), l["dexterous_mm"]["max"].get<double>(),
+                  l["rotational_deg"]["p95"].get<double>(), l["rotational_deg"]["max"].get<double>());
+      WriteFileAtomically(std::filesystem::path(at->out) / "atlas_error.json", err.dump(2) + "\n");
     }
   });
 
@@ -213,24 +225,41 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     std::string atlas, pose;
     double radius_mm = 0, radius_deg = 0;
     bool json_out = false;
+    bool live = false;
   };
   auto qo = std::make_shared<QueryOptions>();
   CLI::App* q = ws->add_subcommand("query", "Signed penetration of a pose against the atlas (positive inside)\n"
                                             "Example: robossis workspace query --atlas atlas --pose 10,0,290,0,5,0 --json");
-  q->add_option("--atlas", qo->atlas, "Atlas folder written by `workspace atlas`")->required();
+  q->add_option("--atlas", qo->atlas, "Atlas folder written by `workspace atlas` (optional with --live)");
   q->add_option("--pose", qo->pose, "X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG of the moving ring in F")->required();
   q->add_option("--radius-mm", qo->radius_mm, "Radius of the query sphere in position (mm)")->capture_default_str();
   q->add_option("--radius-deg", qo->radius_deg, "Radius of the query sphere in RPY space (deg)")->capture_default_str();
   q->add_flag("--json", qo->json_out, "Machine-readable output");
-  q->callback([qo] {
+  q->add_flag("--live", qo->live,
+              "Regenerate both slices at this exact pose (as the live refresh does behind the haptic loop) instead "
+              "of using the nearest atlas node: accurate to the mesh error, ~0.1 s");
+  q->callback([&context, qo] {
     const Eigen::Isometry3d X_FM = ParsePoseMmDeg(qo->pose, "--pose");
     if (!(qo->radius_mm >= 0) || !(qo->radius_deg >= 0)) {
       throw std::invalid_argument("--radius-mm/--radius-deg: expected a number >= 0");
     }
-    const geometry::BoundaryAtlas atlas = geometry::BoundaryAtlas::Load(qo->atlas);
-    geometry::AtlasPoseQuery query;
+    if (qo->atlas.empty() && !qo->live) throw std::invalid_argument("--atlas: required unless --live is given");
+    const geometry::BoundaryAtlas atlas =
+        qo->atlas.empty() ? geometry::BoundaryAtlas() : geometry::BoundaryAtlas::Load(qo->atlas);
     geometry::PoseBoundaryResult r;
-    query.Query(atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg), &r);
+    const robot::RsrModel rsr = context.LoadRsr();
+    const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    geometry::LiveBoundary live(rsr, sigma7);
+    if (qo->live) {
+      live.PostPose(X_FM);
+      live.RefreshNow();
+      geometry::LivePoseQuery query;
+      query.Query(live, qo->atlas.empty() ? nullptr : &atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg),
+                  &r);
+    } else {
+      geometry::AtlasPoseQuery query;
+      query.Query(atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg), &r);
+    }
     auto triple = [](const Eigen::Vector3d& v, double s) { return json::array({v.x() * s, v.y() * s, v.z() * s}); };
     const bool t_ok = r.translation.status == geometry::QueryStatus::kOk;
     const bool r_ok = r.rotation.status == geometry::QueryStatus::kOk;
@@ -241,9 +270,17 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     doc["nearest_mm"] = t_ok ? triple(r.translation.nearest, kMToMm) : json(nullptr);
     doc["angle_normal"] = r_ok ? triple(r.rotation.normal, 1.0) : json(nullptr);
     doc["nearest_rpy_deg"] = r_ok ? triple(r.rotation.nearest, kRadToDeg) : json(nullptr);
-    doc["dexterous_slice_rpy_deg"] = r.dexterous_slice ? triple(r.dexterous_slice->fixed, kRadToDeg) : json(nullptr);
-    doc["rotational_slice_position_mm"] =
-        r.rotational_slice ? triple(r.rotational_slice->fixed, kMToMm) : json(nullptr);
+    // The slices that answered: the live ones (made at this pose) or the nearest atlas nodes.
+    const Eigen::Vector3d* dexterous_at = r.live_dexterous_slice ? &r.live_dexterous_slice->fixed
+                                          : r.dexterous_slice    ? &r.dexterous_slice->fixed
+                                                                 : nullptr;
+    const Eigen::Vector3d* rotational_at = r.live_rotational_slice ? &r.live_rotational_slice->fixed
+                                           : r.rotational_slice    ? &r.rotational_slice->fixed
+                                                                   : nullptr;
+    doc["dexterous_slice_rpy_deg"] = dexterous_at ? triple(*dexterous_at, kRadToDeg) : json(nullptr);
+    doc["rotational_slice_position_mm"] = rotational_at ? triple(*rotational_at, kMToMm) : json(nullptr);
+    doc["live"] = {{"translation", r.live_dexterous_slice != nullptr},
+                   {"rotation", r.live_rotational_slice != nullptr}};
     doc["status"] = {{"translation", geometry::ToString(r.translation.status)},
                      {"rotation", geometry::ToString(r.rotation.status)}};
     if (qo->json_out) {

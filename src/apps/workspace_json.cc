@@ -53,4 +53,18 @@ json AtlasErrorJson(const geometry::AtlasErrorReport& r) {
                               {"on_grid", ErrorStatsJson(r.rotational_on_grid, kRadToDeg)}}}};
 }
 
+json LiveErrorJson(const geometry::ClinicalLiveError& c, const geometry::LiveBoundaryOptions& o) {
+  return {{"resolution", {{"dexterous_mm", o.dexterous_resolution_m * kMToMm},
+                          {"rotational_deg", o.rotational_resolution_rad * kRadToDeg}}},
+          {"tolerance", {{"orientation_deg", o.orientation_tolerance_rad * kRadToDeg},
+                         {"position_mm", o.position_tolerance_m * kMToMm}}},
+          {"refresh_s", {{"dexterous", c.timing.dexterous_s}, {"rotational", c.timing.rotational_s}}},
+          {"clinical_speed", {{"mm_per_s", geometry::kClinicalLinearSpeedMps * kMToMm},
+                              {"deg_per_s", geometry::kClinicalAngularSpeedRadps * kRadToDeg}}},
+          {"staleness", {{"orientation_deg", c.staleness.orientation_rad * kRadToDeg},
+                         {"position_mm", c.staleness.position_m * kMToMm}}},
+          {"dexterous_mm", ErrorStatsJson(c.error.dexterous, kMToMm)},
+          {"rotational_deg", ErrorStatsJson(c.error.rotational, kRadToDeg)}};
+}
+
 }  // namespace robossis::apps

@@ -15,5 +15,6 @@ nlohmann::ordered_json SliceSummaryJson(const geometry::WorkspaceSlice& slice);
 
 nlohmann::ordered_json ErrorStatsJson(const geometry::ErrorStats& s, double scale);
 nlohmann::ordered_json AtlasErrorJson(const geometry::AtlasErrorReport& report);
+nlohmann::ordered_json LiveErrorJson(const geometry::ClinicalLiveError& live, const geometry::LiveBoundaryOptions& o);
 
 }  // namespace robossis::apps

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -79,6 +80,21 @@ TEST(SignedDistanceTest, WarmStartedQueriesEqualColdOnes) {
     cold.Query(&field, q, 0.0, &b);
     EXPECT_NEAR(a.signed_distance, b.signed_distance, 1e-12);
   }
+}
+
+TEST(SignedDistanceTest, WarmStartIsNotFooledByAFieldRebuiltAtTheSameAddress) {
+  // A refreshed slice may be built where the previous one was freed; the warm start must not reuse the old
+  // triangle index (the icosphere has 1280 triangles, the box 12).
+  std::optional<BoundaryDistanceField> field;
+  field.emplace(testing::IcoSphere(3, 1.0));
+  SignedDistanceQuery query;
+  SignedDistanceResult r;
+  query.Query(&*field, {0.1, 0.2, 1.3}, 0.0, &r);
+  ASSERT_GT(r.triangle, 12);
+  field.reset();
+  field.emplace(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
+  ASSERT_EQ(query.Query(&*field, {0.1, 0.2, 1.3}, 0.0, &r), QueryStatus::kOk);
+  EXPECT_NEAR(r.signed_distance, -0.3, 1e-12);
 }
 
 TEST(SignedDistanceTest, BadInputsGiveAStatus) {
