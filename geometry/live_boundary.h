@@ -96,8 +96,8 @@ class LiveBoundary {
  private:
   const LiveSlice* Acquire(int family) noexcept;
 
-  const robot::RsrModel& rsr_;
-  const robot::Sigma7Model& hc_;
+  const robot::RsrModel rsr_;  // copies: the refresh thread may outlive the caller's models
+  const robot::Sigma7Model hc_;
   LiveBoundaryOptions options_;
   // Pose mailbox: a sequence lock over (x, y, z, roll, pitch, yaw); odd sequence = being written.
   std::atomic<std::uint64_t> pose_sequence_{0};

@@ -50,6 +50,12 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.device.damping_ns_per_m = dev.NumberInRange("damping_ns_per_m", 0, 1e4);
   c.device.rot_damping_nms_per_rad = dev.NumberInRange("rot_damping_nms_per_rad", 0, 1e3);
   c.device.physics_rate_hz = dev.NumberInRange("physics_rate_hz", 100, 1e6);
+  const ConfigNode live = root.Child("mesh_live");
+  c.live.dexterous_resolution_m = MmToM(live.PositiveNumber("dexterous_resolution_mm"));
+  c.live.rotational_resolution_rad = DegToRad(live.PositiveNumber("rotational_resolution_deg"));
+  c.live.orientation_tolerance_rad = DegToRad(live.PositiveNumber("orientation_tolerance_deg"));
+  c.live.position_tolerance_m = MmToM(live.PositiveNumber("position_tolerance_mm"));
+  c.live_refresh_latency_s = live.PositiveNumber("simulated_refresh_latency_s");
   return c;
 }
 

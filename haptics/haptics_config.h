@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "geometry/live_boundary.h"
 #include "haptics/device/device_sim.h"
 #include "haptics/rendering/haptic_types.h"
 #include "haptics/rendering/point_cloud_renderer.h"
@@ -23,6 +24,8 @@ struct HapticsConfig {
   HandParams hand;
   double strike_hand_stiffness_n_per_m = 1200;
   DeviceSimParams device;
+  geometry::LiveBoundaryOptions live;   // mesh-live: the slices regenerated at the current pose
+  double live_refresh_latency_s = 0.15;  // mesh-live in simulation: modelled time of one refresh (both slices)
 
   // Throws std::runtime_error naming the file and key.
   static HapticsConfig FromYaml(const std::filesystem::path& file);

@@ -102,6 +102,12 @@ class HapticRenderer {
   const HcToRsrMap& map() const { return map_; }
   double dt() const { return dt_; }
 
+  // Simulation only, between ticks, NOT real-time: the background work the method needs that is due at simulated
+  // time now_s (mesh-live: regenerating the live boundary slices with a modelled latency). A real leader process
+  // runs that work on its own thread instead (geometry::LiveBoundary::Start); calling it here keeps runs
+  // deterministic. Methods without background work ignore it.
+  virtual void StepSimulatedBackground(double now_s) { (void)now_s; }
+
  protected:
   // The method proper: the wrench in RSR space (F), before the common saturation.
   virtual HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept = 0;

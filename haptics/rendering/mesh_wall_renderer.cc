@@ -26,14 +26,30 @@ MeshWallRenderer::MeshWallRenderer(const robot::RsrModel& model, const HcToRsrMa
       atlas_(std::move(atlas)),
       name_(name),
       filter_(moving_average_window) {
-  if (!atlas_) throw std::invalid_argument("mesh walls: no boundary atlas");
+}
+
+void MeshWallRenderer::UseLiveBoundary(std::shared_ptr<geometry::LiveBoundary> live, double simulated_latency_s) {
+  if (!live) throw std::invalid_argument("mesh walls: no live boundary");
+  live_ = std::move(live);
+  refresher_ = simulated_latency_s >= 0 ? std::make_unique<geometry::SimulatedRefresher>(*live_, simulated_latency_s)
+                                        : nullptr;
+}
+
+void MeshWallRenderer::StepSimulatedBackground(double now_s) {
+  if (refresher_) refresher_->Step(now_s);
 }
 
 void MeshWallRenderer::ResetMethod(const Eigen::Isometry3d&) noexcept { filter_.Reset(); }
 
 HapticStatus MeshWallRenderer::Render(const RsrSideState& state, Eigen::Vector3d& f_F,
                                       Eigen::Vector3d& tau_F) noexcept {
-  query_.Query(*atlas_, state.X_FM, 0.0, 0.0, &result_);
+  if (live_) {
+    live_query_.Query(*live_, atlas_.get(), state.X_FM, 0.0, 0.0, &result_);
+  } else if (atlas_) {
+    query_.Query(*atlas_, state.X_FM, 0.0, 0.0, &result_);
+  } else {
+    result_ = geometry::PoseBoundaryResult{};  // no boundary at all: kNoField below
+  }
   HapticStatus status = HapticStatus::kFree;
   Eigen::Vector3d d_in = Eigen::Vector3d::Zero();
   Eigen::Vector3d theta_in = Eigen::Vector3d::Zero();

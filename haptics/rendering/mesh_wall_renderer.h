@@ -12,10 +12,15 @@
 //  * no slice at the nearest node (that whole slice is unreachable) or a failed query: kDeepPenetration with the
 //    viscous term only (bounded; never NaN).
 // The atlas is loaded before the loop; a query is O(log n) in the mesh size, allocation-free (geometry tests).
+//
+// With a live boundary (UseLiveBoundary; the "mesh-live" method) the slices regenerated at the current pose
+// (geometry/live_boundary.h) take over from the atlas nodes whenever they are nearer to the pose: the walls are then
+// as accurate as one refresh is stale, instead of one atlas grid step.
 
 #include <memory>
 
 #include "geometry/boundary_atlas.h"
+#include "geometry/live_boundary.h"
 #include "haptics/rendering/haptic_types.h"
 #include "haptics/rendering/wall_law.h"
 
@@ -27,6 +32,12 @@ class MeshWallRenderer final : public HapticRenderer {
                    const WallLawParams& wall, int moving_average_window,
                    std::shared_ptr<const geometry::BoundaryAtlas> atlas, const char* name = "mesh");
 
+  // Live slices take over from the atlas (which may then be null). simulated_latency_s >= 0: the slices are
+  // refreshed by StepSimulatedBackground with that modelled latency (simulation); < 0: the caller runs
+  // live->Start() (a real loop, the refresh on its own thread).
+  void UseLiveBoundary(std::shared_ptr<geometry::LiveBoundary> live, double simulated_latency_s);
+  void StepSimulatedBackground(double now_s) override;
+
   const char* name() const noexcept override { return name_; }
   const geometry::PoseBoundaryResult& last_query() const { return result_; }
 
@@ -37,9 +48,12 @@ class MeshWallRenderer final : public HapticRenderer {
  private:
   WallLawParams wall_;
   std::shared_ptr<const geometry::BoundaryAtlas> atlas_;
+  std::shared_ptr<geometry::LiveBoundary> live_;
+  std::unique_ptr<geometry::SimulatedRefresher> refresher_;
   const char* name_;
   WeightedMovingAverage filter_;
   geometry::AtlasPoseQuery query_;
+  geometry::LivePoseQuery live_query_;
   geometry::PoseBoundaryResult result_;
 };
 

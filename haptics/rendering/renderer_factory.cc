@@ -9,12 +9,13 @@
 namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods() {
-  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "proxy", "proxy-safe", "proxy-pc"};
+  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live", "proxy", "proxy-safe", "proxy-pc"};
 }
 
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
                                              const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
-                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas) {
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas,
+                                             BackgroundWork background) {
   PassivityParams passive = config.passivity;
   passive.enabled = true;
   std::unique_ptr<HapticRenderer> r;
@@ -35,6 +36,18 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
     }
     r = std::make_unique<MeshWallRenderer>(model, map, config.limits, rate_hz, config.wall,
                                            config.cloud.moving_average_window, std::move(atlas), "mesh");
+  } else if (method == "mesh-live") {
+    auto mesh = std::make_unique<MeshWallRenderer>(model, map, config.limits, rate_hz, config.wall,
+                                                   config.cloud.moving_average_window, std::move(atlas), "mesh-live");
+    // (The HC model is not used by the RSR slices a live boundary regenerates.)
+    auto live = std::make_shared<geometry::LiveBoundary>(model, robot::Sigma7Model::Default(), config.live);
+    if (background == BackgroundWork::kThread) {
+      live->Start();
+      mesh->UseLiveBoundary(std::move(live), -1);
+    } else {
+      mesh->UseLiveBoundary(std::move(live), config.live_refresh_latency_s);
+    }
+    r = std::move(mesh);
   } else if (method == "proxy") {
     r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.proxy, "proxy");
   } else if (method == "proxy-safe") {

@@ -9,6 +9,8 @@
 //   proxy-pc         ours, device-safe preset, with the passivity observer + controller
 //   mesh             the paper's spring-damper law on the FCL signed penetration against the boundary atlas
 //                    (needs an atlas: `robossis workspace atlas --out DIR`)
+//   mesh-live        the same on slices regenerated at the current pose in the background (geometry/live_boundary.h),
+//                    the atlas (optional) answering until the first refresh lands
 
 #include <memory>
 #include <string>
@@ -22,9 +24,16 @@ namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods();
 
-// Throws std::invalid_argument naming the method and listing the known ones. `atlas` is needed by "mesh" only.
+// Where a method's background work (mesh-live: the slice refresh) runs: in simulated time through
+// HapticRenderer::StepSimulatedBackground (deterministic closed-loop simulations), or on a thread of its own (a real
+// haptic loop).
+enum class BackgroundWork { kSimulated, kThread };
+
+// Throws std::invalid_argument naming the method and listing the known ones. `atlas` is needed by "mesh" (and used
+// by "mesh-live" until its first refresh).
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
                                              const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
-                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr);
+                                             std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr,
+                                             BackgroundWork background = BackgroundWork::kSimulated);
 
 }  // namespace robossis::haptics

@@ -93,6 +93,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
         input.w_O = RotationVector(device.pose().linear() * X_prev.linear().transpose()) / dt;
       }
       X_prev = device.pose();
+      renderer->StepSimulatedBackground(elapsed_s + t);  // between ticks, outside the timed tick
       HapticOutput output;
       const auto t0 = std::chrono::steady_clock::now();
       renderer->Tick(input, output);

@@ -10,6 +10,8 @@
 #include "haptics/rendering/boundary_probe.h"
 #include "haptics/rendering/mesh_wall_renderer.h"
 #include "haptics/scenarios/scenario.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
 #include "test_util.h"
 #include "tests/support/alloc_counter.h"
 
@@ -22,6 +24,7 @@ using testing::Home;
 using testing::IdentityMap;
 using testing::Rsr;
 using testing::Translated;
+using geometry::LiveBoundaryOptions;
 
 class MeshWall : public ::testing::Test {
  protected:
@@ -70,6 +73,72 @@ TEST_F(MeshWall, TickAllocatesNothing) {
   robossis::testing::AllocationCounter counter;
   for (int k = 0; k < 200; ++k) {
     in.X_OH = Translated(Home(), Eigen::Vector3d(0, 0, 0.0008 * k));
+    r.Tick(in, out);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+// A pose 4 mm beyond the +x edge at yaw 9 deg, roll 4 deg: halfway between the coarse atlas' orientation nodes, where
+// the nearest node's slice misplaces the wall.
+Eigen::Isometry3d BeyondXEdgeOffNode(double beyond_m) {
+  Eigen::Isometry3d turned = Home();
+  turned.linear() = RotationFromRpy(Eigen::Vector3d(DegToRad(4), 0, DegToRad(9)));
+  const double reach = ReachAlongAxis(Rsr(), turned, Eigen::Vector3d::UnitX(), false, 0.3);
+  return Translated(turned, (reach + beyond_m) * Eigen::Vector3d::UnitX());
+}
+
+LiveBoundaryOptions CoarseLiveOptions() {
+  geometry::LiveBoundaryOptions o;
+  o.dexterous_resolution_m = 0.006;
+  o.rotational_resolution_rad = DegToRad(3);
+  return o;
+}
+
+TEST_F(MeshWall, LiveSlicesPlaceTheWallWhereTheAtlasNodeDoesNot) {
+  const Eigen::Isometry3d X = BeyondXEdgeOffNode(0.004);
+  MeshWallRenderer atlas_only = Make();
+  atlas_only.Reset(X);
+  Hold(atlas_only, X);
+  MeshWallRenderer live = Make();
+  live.UseLiveBoundary(std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(),
+                                                                CoarseLiveOptions()),
+                       /*simulated_latency_s=*/0.1);
+  live.Reset(X);
+  Hold(live, X, 1);                  // posts the pose
+  live.StepSimulatedBackground(0.0);  // starts a refresh at t = 0 ...
+  Hold(live, X, 1);
+  EXPECT_EQ(live.last_query().live_dexterous_slice, nullptr);  // ... not visible before the latency
+  live.StepSimulatedBackground(0.1);
+  const HapticOutput out = Hold(live, X);
+  ASSERT_NE(live.last_query().live_dexterous_slice, nullptr);
+  ASSERT_EQ(out.status, HapticStatus::kContact);
+  // The true penetration (distance to the nearest feasible position, from the IK): the live wall is within its mesh
+  // error of it, the atlas node's wall is not.
+  const double truth = TranslationalPenetration(Rsr(), X);
+  EXPECT_GT(truth, 0.002);
+  EXPECT_NEAR(-live.last_query().translation.signed_distance, truth, 0.0005);
+  EXPECT_GT(std::abs(-atlas_only.last_query().translation.signed_distance - truth), 0.002);
+  EXPECT_GT(out.f_O.normalized().dot(InwardNormalTranslation(Rsr(), X)), 0.9);
+}
+
+TEST_F(MeshWall, LiveTickAllocatesNothing) {
+  MeshWallRenderer r = Make();
+  r.UseLiveBoundary(std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(),
+                                                             CoarseLiveOptions()),
+                    0.0);
+  const Eigen::Isometry3d X = BeyondXEdgeOffNode(0.002);
+  r.Reset(X);
+  Hold(r, X, 1);
+  r.StepSimulatedBackground(0.0);
+  r.StepSimulatedBackground(0.0);  // latency 0: published on the next step
+  HapticInput in;
+  HapticOutput out;
+  in.X_OH = X;
+  r.Tick(in, out);
+  ASSERT_NE(r.last_query().live_dexterous_slice, nullptr);
+  robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 200; ++k) {
+    in.X_OH = Translated(X, Eigen::Vector3d(0, 0, 2e-5 * k));
     r.Tick(in, out);
   }
   EXPECT_EQ(counter.count(), 0u);
