@@ -29,22 +29,23 @@
 #include "geometry/boundary_atlas.h"
 #include "geometry/signed_distance.h"
 #include "geometry/workspace_slice.h"
+#include "src/core/units.h"
 
 namespace robossis::geometry {
 
 // [paper §V; DESIGN.md] Clinical motion speeds of the fragment (the demonstration runs at 10 mm/s, 1 deg/s).
 inline constexpr double kClinicalLinearSpeedMps = 0.002;
-inline constexpr double kClinicalAngularSpeedRadps = 0.2 * 3.14159265358979323846 / 180.0;
+inline constexpr double kClinicalAngularSpeedRadps = 0.2 * kDegToRad;
 
 struct LiveBoundaryOptions {
   // [assumed] Mesh resolutions of the live slices: 4 mm (≈22k triangles, mesh error p95 0.02 mm) and 2 deg
   // (≈5k triangles, p95 0.18 deg) — geometry/README.md "Accuracy"; about 0.05 s and 0.015 s to generate.
   double dexterous_resolution_m = 0.004;
-  double rotational_resolution_rad = 0.0349066;  // 2 deg
+  double rotational_resolution_rad = 2 * kDegToRad;
   // [assumed] Regenerate a slice when the pose coordinate it depends on moved more than this from the slice's own
   // pose: 0.01 deg moves the dexterous boundary by ≈0.04 mm, 0.25 mm moves the rotational boundary by ≈0.05 deg.
   // (A moving hand exceeds both within a refresh anyway; they only stop refreshes while it is still.)
-  double orientation_tolerance_rad = 0.000174533;  // 0.01 deg
+  double orientation_tolerance_rad = 0.01 * kDegToRad;
   double position_tolerance_m = 0.00025;
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -104,12 +103,6 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh, const MeshStatis
   m.face_normal.resize(T.size());
   m.edge_normal.resize(T.size());
   m.vertex_normal.assign(V.size(), Eigen::Vector3d::Zero());
-  // Directed edge (i, j) -> its triangle; in a closed oriented mesh the reverse (j, i) belongs to the neighbour.
-  std::unordered_map<std::uint64_t, int> edge_owner;
-  edge_owner.reserve(3 * T.size());
-  auto key = [](int i, int j) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
-  };
   for (std::size_t t = 0; t < T.size(); ++t) {
     const Eigen::Vector3d &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
     const Eigen::Vector3d n = (b - a).cross(c - a);
@@ -119,13 +112,14 @@ BoundaryDistanceField::BoundaryDistanceField(TriangleMesh mesh, const MeshStatis
     m.vertex_normal[T[t][0]] += AngleAt(a, b, c) * m.face_normal[t];
     m.vertex_normal[T[t][1]] += AngleAt(b, c, a) * m.face_normal[t];
     m.vertex_normal[T[t][2]] += AngleAt(c, a, b) * m.face_normal[t];
-    for (int e = 0; e < 3; ++e) edge_owner.emplace(key(T[t][e], T[t][(e + 1) % 3]), static_cast<int>(t));
   }
   for (Eigen::Vector3d& n : m.vertex_normal) n.normalize();
+  // In a closed oriented mesh the reverse of a triangle's edge (i, j) belongs to its neighbour across that edge.
+  const DirectedEdges edges(mesh_);
   for (std::size_t t = 0; t < T.size(); ++t) {
     for (int e = 0; e < 3; ++e) {
       // Edge pseudonormal: the sum of the two adjacent faces' normals (the neighbour owns the reversed edge).
-      const int neighbour = edge_owner.at(key(T[t][(e + 1) % 3], T[t][e]));
+      const int neighbour = edges.Owner(T[t][(e + 1) % 3], T[t][e]);
       m.edge_normal[t][e] = (m.face_normal[t] + m.face_normal[neighbour]).normalized();
     }
   }

@@ -8,7 +8,6 @@
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -17,10 +16,6 @@
 namespace robossis::geometry {
 
 namespace {
-
-std::uint64_t EdgeKey(int a, int b) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 template <typename T>
 void Append(std::string& out, T value) {
@@ -43,36 +38,59 @@ MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh) {
     }
   }
   if (mesh.triangles.empty()) return s;
-  // Directed edge counts: a closed, consistently oriented 2-manifold has each directed edge exactly once and its
-  // reverse exactly once.
-  std::unordered_map<std::uint64_t, int> directed;
-  directed.reserve(mesh.triangles.size() * 3);
-  double six_volume = 0;
-  const Eigen::Vector3d centre = 0.5 * (s.min + s.max);  // reduces round-off in the volume sum
   const int n = static_cast<int>(mesh.vertices.size());
   for (const Eigen::Vector3i& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      if (t[k] < 0 || t[k] >= n) return s;  // invalid index: nothing below holds
-      ++directed[EdgeKey(t[k], t[(k + 1) % 3])];
-    }
-    const Eigen::Vector3d a = mesh.vertices[t[0]] - centre, b = mesh.vertices[t[1]] - centre,
-                          c = mesh.vertices[t[2]] - centre;
-    six_volume += a.dot(b.cross(c));  // divergence theorem: sum of signed tetrahedra
+    if ((t.array() < 0).any() || (t.array() >= n).any()) return s;  // invalid index: nothing below holds
+  }
+  s.volume = SignedVolume(mesh);
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     if ((b - a).cross(c - a).squaredNorm() == 0.0) ++s.degenerate_triangles;
   }
-  s.volume = six_volume / 6.0;
+  // A closed, consistently oriented 2-manifold has each directed edge exactly once and its reverse exactly once.
+  const DirectedEdges edges(mesh);
   bool watertight = true, oriented = true;
-  for (const auto& [key, count] : directed) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    const auto reverse = directed.find(EdgeKey(b, a));
-    const int reverse_count = reverse == directed.end() ? 0 : reverse->second;
-    if (count + reverse_count != 2) watertight = false;
-    if (count != 1 || reverse_count != 1) oriented = false;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int count = edges.Count(t[k], t[(k + 1) % 3]), reverse_count = edges.Count(t[(k + 1) % 3], t[k]);
+      if (count + reverse_count != 2) watertight = false;
+      if (count != 1 || reverse_count != 1) oriented = false;
+    }
   }
   s.watertight = watertight;
   s.consistently_oriented = oriented;
   s.outward = oriented && s.volume > 0;
   return s;
+}
+
+DirectedEdges::DirectedEdges(const TriangleMesh& mesh) : row_start_(mesh.vertices.size() + 1, 0) {
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++row_start_[t[k] + 1];
+  }
+  for (std::size_t v = 1; v < row_start_.size(); ++v) row_start_[v] += row_start_[v - 1];
+  to_.resize(3 * mesh.triangles.size());
+  triangle_.resize(3 * mesh.triangles.size());
+  std::vector<int> fill(row_start_.begin(), row_start_.end() - 1);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int slot = fill[mesh.triangles[t][k]]++;
+      to_[slot] = mesh.triangles[t][(k + 1) % 3];
+      triangle_[slot] = static_cast<int>(t);
+    }
+  }
+}
+
+int DirectedEdges::Count(int from, int to) const noexcept {
+  int count = 0;
+  for (int i = row_start_[from]; i < row_start_[from + 1]; ++i) count += to_[i] == to ? 1 : 0;
+  return count;
+}
+
+int DirectedEdges::Owner(int from, int to) const noexcept {
+  for (int i = row_start_[from]; i < row_start_[from + 1]; ++i) {
+    if (to_[i] == to) return triangle_[i];
+  }
+  return -1;
 }
 
 double SignedVolume(const TriangleMesh& mesh) {

@@ -32,6 +32,20 @@ struct MeshStatistics {
 };
 
 MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);
+
+// The directed edges of a mesh grouped by their start vertex (compressed rows): edge e of triangle t runs from
+// triangles[t][e] to triangles[t][(e + 1) % 3]. Lookups scan one vertex's few edges, which is several times faster
+// than hashing every edge -- it matters when a slice is rebuilt while the hand moves. Indices must be valid.
+class DirectedEdges {
+ public:
+  explicit DirectedEdges(const TriangleMesh& mesh);
+  int Count(int from, int to) const noexcept;  // how many triangles traverse from -> to
+  int Owner(int from, int to) const noexcept;  // a triangle that traverses from -> to, or -1
+
+ private:
+  std::vector<int> row_start_;  // per vertex, into to_/triangle_ (size vertices + 1)
+  std::vector<int> to_, triangle_;
+};
 // The signed enclosed volume alone (positive for an outward-oriented closed mesh); cheaper than the statistics.
 double SignedVolume(const TriangleMesh& mesh);
 

@@ -56,6 +56,7 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.live.orientation_tolerance_rad = DegToRad(live.PositiveNumber("orientation_tolerance_deg"));
   c.live.position_tolerance_m = MmToM(live.PositiveNumber("position_tolerance_mm"));
   c.live_refresh_latency_s = live.PositiveNumber("simulated_refresh_latency_s");
+  c.live_switch_blend_s = live.PositiveNumber("switch_blend_s");
   return c;
 }
 

@@ -26,6 +26,7 @@ struct HapticsConfig {
   DeviceSimParams device;
   geometry::LiveBoundaryOptions live;   // mesh-live: the slices regenerated at the current pose
   double live_refresh_latency_s = 0.15;  // mesh-live in simulation: modelled time of one refresh (both slices)
+  double live_switch_blend_s = 0.1;      // mesh-live: a new slice's wall is blended in over this time
 
   // Throws std::runtime_error naming the file and key.
   static HapticsConfig FromYaml(const std::filesystem::path& file);

@@ -28,8 +28,36 @@ MeshWallRenderer::MeshWallRenderer(const robot::RsrModel& model, const HcToRsrMa
       filter_(moving_average_window) {
 }
 
-void MeshWallRenderer::UseLiveBoundary(std::shared_ptr<geometry::LiveBoundary> live, double simulated_latency_s) {
+void SliceSwitchBlend::Reset() noexcept {
+  remaining_ = 0;
+  source_ = nullptr;
+  offset_.setZero();
+  last_.setZero();
+}
+
+Eigen::Vector3d SliceSwitchBlend::Apply(const void* source, const Eigen::Vector3d& in) noexcept {
+  if (source != source_ && source_ != nullptr && ticks_ > 0) {
+    offset_ = last_ - in;  // what the switch would add this tick
+    remaining_ = ticks_;
+  }
+  source_ = source;
+  Eigen::Vector3d out = in;
+  if (remaining_ > 0) {
+    out += offset_ * (static_cast<double>(remaining_) / ticks_);
+    --remaining_;
+  }
+  last_ = out;
+  return out;
+}
+
+void MeshWallRenderer::UseLiveBoundary(std::shared_ptr<geometry::LiveBoundary> live, double simulated_latency_s,
+                                       double switch_blend_s) {
   if (!live) throw std::invalid_argument("mesh walls: no live boundary");
+  if (!(std::isfinite(switch_blend_s) && switch_blend_s >= 0)) {
+    throw std::invalid_argument("mesh walls: switch_blend_s must be a number >= 0");
+  }
+  translation_blend_.Configure(static_cast<int>(std::lround(switch_blend_s / dt())));
+  rotation_blend_.Configure(static_cast<int>(std::lround(switch_blend_s / dt())));
   live_ = std::move(live);
   refresher_ = simulated_latency_s >= 0 ? std::make_unique<geometry::SimulatedRefresher>(*live_, simulated_latency_s)
                                         : nullptr;
@@ -39,7 +67,11 @@ void MeshWallRenderer::StepSimulatedBackground(double now_s) {
   if (refresher_) refresher_->Step(now_s);
 }
 
-void MeshWallRenderer::ResetMethod(const Eigen::Isometry3d&) noexcept { filter_.Reset(); }
+void MeshWallRenderer::ResetMethod(const Eigen::Isometry3d&) noexcept {
+  filter_.Reset();
+  translation_blend_.Reset();
+  rotation_blend_.Reset();
+}
 
 HapticStatus MeshWallRenderer::Render(const RsrSideState& state, Eigen::Vector3d& f_F,
                                       Eigen::Vector3d& tau_F) noexcept {
@@ -66,6 +98,17 @@ HapticStatus MeshWallRenderer::Render(const RsrSideState& state, Eigen::Vector3d
     const Eigen::Vector3d rpy = RpyFromRotation(state.X_FM.linear());
     theta_in = RpyRateToAngularVelocity(rpy) * (r.signed_distance * r.normal);
     if (status == HapticStatus::kFree) status = HapticStatus::kContact;
+  }
+  if (live_) {
+    // The slice that answered each family: a live one, or the atlas node's.
+    const void* translation_source = result_.live_dexterous_slice
+                                         ? static_cast<const void*>(result_.live_dexterous_slice)
+                                         : static_cast<const void*>(result_.dexterous_slice);
+    const void* rotation_source = result_.live_rotational_slice
+                                      ? static_cast<const void*>(result_.live_rotational_slice)
+                                      : static_cast<const void*>(result_.rotational_slice);
+    d_in = translation_blend_.Apply(translation_source, d_in);
+    theta_in = rotation_blend_.Apply(rotation_source, theta_in);
   }
   Vector6d wrench;
   wrench.head<3>() = WallForce(wall_, d_in, state.v_F);        // eq. 18

@@ -43,9 +43,9 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
     auto live = std::make_shared<geometry::LiveBoundary>(model, robot::Sigma7Model::Default(), config.live);
     if (background == BackgroundWork::kThread) {
       live->Start();
-      mesh->UseLiveBoundary(std::move(live), -1);
+      mesh->UseLiveBoundary(std::move(live), -1, config.live_switch_blend_s);
     } else {
-      mesh->UseLiveBoundary(std::move(live), config.live_refresh_latency_s);
+      mesh->UseLiveBoundary(std::move(live), config.live_refresh_latency_s, config.live_switch_blend_s);
     }
     r = std::move(mesh);
   } else if (method == "proxy") {

@@ -58,25 +58,15 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
       result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BoundaryAtlas::Load(request.atlas_dir));
       result.atlas_source = "loaded from " + request.atlas_dir;
     } else {
-      // Without --atlas: the geometry module's coarse atlas with --fast, else a medium one [assumed]: the default
-      // grid steps doubled (10° in roll/pitch, 20° in yaw, 60 mm in x/y, 40 mm in z) at the default mesh
-      // resolutions — 200 slices, a few minutes, against the default's 1296 (pass --atlas for that one).
-      geometry::AtlasSpec spec = geometry::AtlasSpec::Coarse(rsr);
-      if (!request.fast) {
-        spec = geometry::AtlasSpec::Default(rsr);
-        const Eigen::Vector3d home = rsr.geometry().X_FM_home.translation();
-        spec.orientation_grid = {geometry::GridAxis{DegToRad(-20), DegToRad(10), 5},
-                                 geometry::GridAxis{DegToRad(-20), DegToRad(10), 5},
-                                 geometry::GridAxis{DegToRad(-40), DegToRad(20), 5}};
-        spec.position_grid = {geometry::GridAxis{home.x() - 0.12, 0.06, 5}, geometry::GridAxis{home.y() - 0.12, 0.06, 5},
-                              geometry::GridAxis{home.z() - 0.04, 0.04, 3}};
-      }
-      progress(std::string("render-compare: building the ") + (request.fast ? "coarse" : "medium") +
+      // Without --atlas: the geometry module's default atlas (about 20 s of CPU), the coarse one with --fast.
+      const geometry::AtlasSpec spec =
+          request.fast ? geometry::AtlasSpec::Coarse(rsr) : geometry::AtlasSpec::Default(rsr);
+      progress(std::string("render-compare: building the ") + (request.fast ? "coarse" : "default") +
                " boundary atlas for the mesh method (pass --atlas DIR to reuse one)");
       const std::filesystem::path dir = out.Path(request.prefix + "atlas");
       result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BuildAtlas(rsr, sigma7, spec, dir));
       result.atlas_source = std::string("built (") +
-                            (request.fast ? "AtlasSpec::Coarse" : "medium: AtlasSpec::Default with doubled grid steps") +
+                            (request.fast ? "AtlasSpec::Coarse" : "AtlasSpec::Default") +
                             ") into " + request.prefix + "atlas/";
     }
   }

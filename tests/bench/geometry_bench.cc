@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include "geometry/boundary_atlas.h"
+#include "geometry/live_boundary.h"
 #include "geometry/signed_distance.h"
 #include "geometry/workspace_slice.h"
 #include "src/core/pose.h"
@@ -145,5 +146,57 @@ void BM_AtlasPoseQuery(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_AtlasPoseQuery)->Unit(benchmark::kMicrosecond);
+
+// One live refresh (slice + query structure, the default live resolutions 4 mm / 2 deg) of the dexterous (arg 0) or
+// rotational (arg 1) slice, at the home pose (the largest dexterous slice) and at rpy (0, 5, 10) deg / 30 mm off.
+void BM_LiveRefresh(benchmark::State& state) {
+  LiveBoundary live(Rsr(), Hc());
+  const bool dexterous = state.range(0) == 0;
+  const bool home = state.range(1) == 0;
+  const Eigen::Vector3d p = Rsr().geometry().X_FM_home.translation() + (home ? Eigen::Vector3d::Zero()
+                                                                             : Eigen::Vector3d(0.03, 0, 0));
+  const Eigen::Vector3d rpy = home ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0, DegToRad(5), DegToRad(10));
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const auto slice = live.Generate(dexterous ? SliceKind::kRsrDexterous : SliceKind::kRsrRotational,
+                                     dexterous ? rpy : p);
+    triangles = slice ? slice->field->mesh().triangles.size() : 0;
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_LiveRefresh)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// The haptic tick's pose query on live slices: a coherent path (1 kHz samples of a 20 mm circle at 50 mm/s with a
+// slow yaw swing) against the live slices made at its start.
+void BM_LivePoseQuery(benchmark::State& state) {
+  LiveBoundary live(Rsr(), Hc());
+  const Eigen::Vector3d home = Rsr().geometry().X_FM_home.translation();
+  live.PostPose(Rsr().geometry().X_FM_home);
+  live.RefreshNow();
+  LivePoseQuery query;
+  PoseBoundaryResult r;
+  std::vector<Eigen::Isometry3d> path(2513);
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const double a = 2 * kPi * k / path.size();
+    path[k] = PoseFromPositionRpy(home + Eigen::Vector3d(0.13 + 0.02 * std::cos(a), 0.02 * std::sin(a), 0),
+                                  Eigen::Vector3d(0, 0, DegToRad(0.5) * std::sin(a)));
+  }
+  std::vector<double> ns;
+  ns.reserve(1 << 20);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    query.Query(live, nullptr, path[i++ % path.size()], 0.0, 0.0, &r);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(r.translation.signed_distance);
+    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+  }
+  std::sort(ns.begin(), ns.end());
+  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
+  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
+  state.counters["max_us"] = ns.back() * 1e-3;
+}
+BENCHMARK(BM_LivePoseQuery)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

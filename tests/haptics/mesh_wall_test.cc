@@ -144,6 +144,20 @@ TEST_F(MeshWall, LiveTickAllocatesNothing) {
   EXPECT_EQ(counter.count(), 0u);
 }
 
+TEST(SliceSwitchBlend, TakesUpASlicesJumpLinearly) {
+  SliceSwitchBlend blend;
+  blend.Configure(4);
+  const int a = 0, b = 0;  // two slice identities
+  EXPECT_TRUE(blend.Apply(&a, Eigen::Vector3d(1, 0, 0)).isApprox(Eigen::Vector3d(1, 0, 0)));  // first: no blend
+  EXPECT_TRUE(blend.Apply(&a, Eigen::Vector3d(2, 0, 0)).isApprox(Eigen::Vector3d(2, 0, 0)));  // same slice
+  // Switch: the new slice says 6; the rendered value starts at the old 2 and reaches 6 after 4 ticks.
+  std::vector<double> seen;
+  for (int k = 0; k < 6; ++k) seen.push_back(blend.Apply(&b, Eigen::Vector3d(6, 0, 0)).x());
+  EXPECT_EQ(seen, (std::vector<double>{2, 3, 4, 5, 6, 6}));
+  blend.Reset();
+  EXPECT_TRUE(blend.Apply(&a, Eigen::Vector3d(0, 1, 0)).isApprox(Eigen::Vector3d(0, 1, 0)));  // no memory
+}
+
 TEST(RpyRate, MatchesFiniteDifferenceOfTheRotation) {
   const Eigen::Vector3d rpy(0.2, -0.3, 0.5), rate(0.1, 0.4, -0.2);
   const double h = 1e-7;
