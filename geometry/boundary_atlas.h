@@ -115,6 +115,11 @@ class AtlasPoseQuery {
   // position_radius_m / angle_radius_rad: radius of the query sphere (0 for a point).
   void Query(const BoundaryAtlas& atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
              double angle_radius_rad, PoseBoundaryResult* out) noexcept;
+  // SignedDistanceQuery::set_inside_cutoff for both families (m, rad); not real-time.
+  void SetInsideCutoff(double position_m, double angle_rad) noexcept {
+    translation_query_.set_inside_cutoff(position_m);
+    rotation_query_.set_inside_cutoff(angle_rad);
+  }
 
  private:
   // One query object per family, so each keeps its own warm start (signed_distance.h).

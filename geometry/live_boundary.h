@@ -145,6 +145,11 @@ class LivePoseQuery {
   // `atlas` may be null (live slices only).
   void Query(LiveBoundary& live, const BoundaryAtlas* atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
              double angle_radius_rad, PoseBoundaryResult* out) noexcept;
+  // SignedDistanceQuery::set_inside_cutoff for both families (m, rad); not real-time.
+  void SetInsideCutoff(double position_m, double angle_rad) noexcept {
+    translation_query_.set_inside_cutoff(position_m);
+    rotation_query_.set_inside_cutoff(angle_rad);
+  }
 
  private:
   SignedDistanceQuery translation_query_;

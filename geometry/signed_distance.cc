@@ -142,6 +142,11 @@ struct SignedDistanceQuery::State {
   // ticks, so the distance to the previous closest triangle is a tight upper bound that prunes most of the tree.
   std::uint64_t last_field_id = 0;  // 0: none
   int last_triangle = -1;
+  // Inside cutoff (set_inside_cutoff): the last exact query point found inside, farther than the cutoff.
+  double inside_cutoff = std::numeric_limits<double>::infinity();
+  std::uint64_t anchor_field_id = 0;
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  double anchor_distance = 0;
 };
 
 namespace {
@@ -204,6 +209,14 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   if (field == nullptr) return out->status = QueryStatus::kNoField;
   if (!q.allFinite() || !std::isfinite(radius) || radius < 0) return out->status = QueryStatus::kNonFinite;
   State& s = *state_;
+  if (s.anchor_field_id == field->id() && (q - s.anchor).norm() <= s.anchor_distance - s.inside_cutoff) {
+    // The boundary is at least anchor_distance - |q - anchor| >= cutoff away and q cannot have crossed it.
+    out->inside = true;
+    out->beyond_inside_cutoff = true;
+    out->signed_distance = s.inside_cutoff - radius;
+    out->nearest = q;
+    return out->status = QueryStatus::kOk;
+  }
   const BoundaryDistanceField::Impl& m = field->impl();
   NearestTriangleSearch search{*m.bvh, field->mesh(), q, std::numeric_limits<double>::infinity(), -1};
   if (s.last_field_id == field->id() && s.last_triangle >= 0) {
@@ -244,7 +257,17 @@ QueryStatus SignedDistanceQuery::Query(const BoundaryDistanceField* field, const
   // Outward normal: along the offset when it is resolvable, else the feature's pseudonormal.
   const double scale = 1e-12 * (1.0 + c.cwiseAbs().maxCoeff());
   out->normal = distance > scale ? Eigen::Vector3d((inside ? -offset : offset) / distance) : pseudonormal;
+  if (inside && distance > s.inside_cutoff) {
+    s.anchor_field_id = field->id();
+    s.anchor = q;
+    s.anchor_distance = distance;
+  }
   return out->status = QueryStatus::kOk;
+}
+
+void SignedDistanceQuery::set_inside_cutoff(double cutoff) noexcept {
+  state_->inside_cutoff = cutoff > 0 ? cutoff : std::numeric_limits<double>::infinity();
+  state_->anchor_field_id = 0;
 }
 
 }  // namespace robossis::geometry

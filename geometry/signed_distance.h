@@ -55,6 +55,10 @@ struct SignedDistanceResult {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   int triangle = -1;   // index of the closest triangle in the field's mesh
   bool inside = false;  // q (the centre) is inside the region
+  // Only with SignedDistanceQuery::set_inside_cutoff: q is inside, farther than the cutoff from the boundary, and
+  // the nearest point was not searched for; signed_distance is then the cutoff minus the radius (a lower bound),
+  // `nearest` is q, `normal` zero, `triangle` -1.
+  bool beyond_inside_cutoff = false;
 };
 
 // An immutable closed mesh prepared for queries: FCL RSS tree, face normals and angle-weighted pseudonormals of
@@ -103,6 +107,14 @@ class SignedDistanceQuery {
   // moving point -- the haptic tick -- is cheaper than a random one. The field must outlive its last query.
   QueryStatus Query(const BoundaryDistanceField* field, const Eigen::Vector3d& q, double radius,
                     SignedDistanceResult* out) noexcept;
+
+  // Users that only need the boundary near q (haptic walls act outside, or within a few mm of it) can skip the
+  // search deep inside: after an exact query found q0 inside at distance d0 > cutoff, every q with
+  // |q - q0| <= d0 - cutoff is answered at once as inside and beyond the cutoff (it cannot be nearer or across the
+  // boundary). Deep inside, the exact search is the expensive case (the ball to search holds much of the mesh:
+  // ~26 us at 19 deg inside a 5k-triangle rotational slice); with a cutoff it runs once per (d0 - cutoff) of
+  // motion. Default: no cutoff (always exact). cutoff <= 0 turns it off.
+  void set_inside_cutoff(double cutoff) noexcept;
 
  private:
   struct State;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "src/core/pose.h"
+#include "src/core/units.h"
 
 namespace robossis::haptics {
 
@@ -26,6 +27,10 @@ MeshWallRenderer::MeshWallRenderer(const robot::RsrModel& model, const HcToRsrMa
       atlas_(std::move(atlas)),
       name_(name),
       filter_(moving_average_window) {
+  // The walls act only outside the region: deep inside, the query need not find the nearest point (signed
+  // distance ≥ the cutoff is all the law uses). [assumed] 5 mm / 2 deg, well beyond any tick's motion.
+  query_.SetInsideCutoff(0.005, DegToRad(2));
+  live_query_.SetInsideCutoff(0.005, DegToRad(2));
 }
 
 void SliceSwitchBlend::Reset() noexcept {

@@ -97,6 +97,34 @@ TEST(SignedDistanceTest, WarmStartIsNotFooledByAFieldRebuiltAtTheSameAddress) {
   EXPECT_NEAR(r.signed_distance, -0.3, 1e-12);
 }
 
+TEST(SignedDistanceTest, InsideCutoffSkipsOnlyWhatCannotBeNearTheBoundary) {
+  // A wandering point inside and outside a unit sphere: with the cutoff, the side always matches the exact query,
+  // exact distances are unchanged, and a skipped search only happens where the boundary is beyond the cutoff.
+  const BoundaryDistanceField field(testing::IcoSphere(3, 1.0));
+  SignedDistanceQuery exact, cut;
+  cut.set_inside_cutoff(0.2);
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::Vector3d q = Eigen::Vector3d::Zero();
+  int skipped = 0;
+  for (int n = 0; n < 3000; ++n) {
+    q += 0.02 * Eigen::Vector3d(u(gen), u(gen), u(gen));
+    q = q.cwiseMax(-1.3).cwiseMin(1.3);
+    SignedDistanceResult a, b;
+    exact.Query(&field, q, 0.0, &a);
+    cut.Query(&field, q, 0.0, &b);
+    ASSERT_EQ(a.inside, b.inside) << n;
+    if (b.beyond_inside_cutoff) {
+      ++skipped;
+      EXPECT_GE(a.signed_distance, 0.2 - 1e-12);
+      EXPECT_DOUBLE_EQ(b.signed_distance, 0.2);
+    } else {
+      EXPECT_DOUBLE_EQ(a.signed_distance, b.signed_distance);
+    }
+  }
+  EXPECT_GT(skipped, 300);  // the walk spends much of its time deep inside
+}
+
 TEST(SignedDistanceTest, BadInputsGiveAStatus) {
   const BoundaryDistanceField field(testing::BoxMesh({-1, -1, -1}, {1, 1, 1}));
   SignedDistanceQuery query;
