@@ -198,18 +198,19 @@ RefreshTiming MeasureRefreshTiming(const robot::RsrModel& rsr, const robot::Sigm
   LiveBoundary live(rsr, hc, options);
   const Eigen::Vector3d p = X_FM.translation();
   const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
-  auto seconds = [&live](SliceKind kind, const Eigen::Vector3d& fixed) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::unique_ptr<LiveSlice> slice = live.Generate(kind, fixed);
-    if (!slice) throw std::invalid_argument("refresh timing: the slice at this pose is empty (pose unreachable)");
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  auto median_seconds = [&](SliceKind kind, const Eigen::Vector3d& fixed) {
+    std::vector<double> seconds;
+    for (int k = 0; k < std::max(1, repetitions); ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      if (!live.Generate(kind, fixed)) {
+        throw std::invalid_argument("refresh timing: the slice at this pose is empty (pose unreachable)");
+      }
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
+    return seconds[seconds.size() / 2];
   };
-  RefreshTiming t;
-  for (int k = 0; k < std::max(1, repetitions); ++k) {
-    t.dexterous_s = std::max(t.dexterous_s, seconds(SliceKind::kRsrDexterous, rpy));
-    t.rotational_s = std::max(t.rotational_s, seconds(SliceKind::kRsrRotational, p));
-  }
-  return t;
+  return {median_seconds(SliceKind::kRsrDexterous, rpy), median_seconds(SliceKind::kRsrRotational, p)};
 }
 
 LiveStaleness WorstCaseStaleness(const RefreshTiming& timing, const LiveBoundaryOptions& options,

@@ -117,7 +117,8 @@ class LiveBoundary {
   std::thread thread_;
 };
 
-// Wall-clock seconds to regenerate each family's slice (the slowest of `repetitions`, at the pose X_FM).
+// Wall-clock seconds to regenerate each family's slice at the pose X_FM (the median of `repetitions`: on a shared
+// machine the slowest run measures the other jobs more than the refresh).
 struct RefreshTiming {
   double dexterous_s = 0;
   double rotational_s = 0;
@@ -125,7 +126,7 @@ struct RefreshTiming {
 };
 RefreshTiming MeasureRefreshTiming(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
                                    const LiveBoundaryOptions& options, const Eigen::Isometry3d& X_FM,
-                                   int repetitions = 3);
+                                   int repetitions = 5);
 
 // Worst-case pose offset of a live slice while the pose moves at the given speeds: a change made just after a
 // refresh read the pose is picked up by the next one, so the slice in use can be up to two refresh cycles old, plus
