@@ -5,8 +5,8 @@
 // FCL 0.7's mesh distance is unsigned (DEPENDENCIES.md), and its sphere-vs-mesh traversal (rectangle-rectangle
 // bounds, a GJK solve per candidate triangle) measured ~4x slower than the search below (BENCHMARKS.md), so the
 // query is done in two steps:
-//   1. FCL builds and fits the mesh's bounding-volume tree (RSS: rectangle swept spheres); a branch-and-bound search
-//      over that tree with the exact point-triangle distance at the leaves finds the closest triangle;
+//   1. FCL builds the mesh's bounding-volume tree (axis-aligned boxes); a branch-and-bound search over that tree
+//      with the exact point-triangle distance at the leaves finds the closest triangle;
 //   2. the closest point on that triangle is exact, and the sign is taken from the angle-weighted
 //      pseudonormal of the closest feature (face, edge or vertex) -- Baerentzen & Aanaes, "Signed distance
 //      computation using the angle weighted pseudonormal", IEEE TVCG 11(3), 2005: for a closed, consistently
@@ -61,7 +61,7 @@ struct SignedDistanceResult {
   bool beyond_inside_cutoff = false;
 };
 
-// An immutable closed mesh prepared for queries: FCL RSS tree, face normals and angle-weighted pseudonormals of
+// An immutable closed mesh prepared for queries: FCL AABB tree, face normals and angle-weighted pseudonormals of
 // every edge and vertex. Thread-safe to query from several threads (each with its own SignedDistanceQuery).
 class BoundaryDistanceField {
  public:
