@@ -87,6 +87,22 @@ TEST_F(WorkspaceCliTest, AtlasThenQueryJson) {
   EXPECT_LT(out["signed_distance_mm"].get<double>(), -100);
 }
 
+TEST_F(WorkspaceCliTest, LiveQueryUsesSlicesMadeAtThePose) {
+  // Off the coarse atlas' nodes (yaw 9 deg): --live answers from slices made at this pose, and needs no atlas.
+  const CommandRun run = Robossis("workspace query --live --pose 20,0,284,0,0,9 --json", false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json q = nlohmann::json::parse(run.output);
+  EXPECT_TRUE(q["live"]["translation"].get<bool>());
+  EXPECT_TRUE(q["live"]["rotation"].get<bool>());
+  EXPECT_NEAR(q["dexterous_slice_rpy_deg"][2].get<double>(), 9.0, 1e-9);
+  EXPECT_NEAR(q["rotational_slice_position_mm"][0].get<double>(), 20.0, 1e-9);
+  EXPECT_GT(q["signed_distance_mm"].get<double>(), 0);
+  // Without --atlas and without --live: a one-line error naming the option.
+  const CommandRun bad = Robossis("workspace query --pose 20,0,284,0,0,9 --json");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--atlas"), std::string::npos) << bad.output;
+}
+
 TEST_F(WorkspaceCliTest, QueryOfACorruptAtlasFails) {
   fs::create_directories(Dir("notatlas"));
   const CommandRun run = Robossis("workspace query --atlas " + Dir("notatlas") + " --pose 0,0,284,0,0,0 --json");
