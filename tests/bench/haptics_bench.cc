@@ -111,5 +111,23 @@ void BM_MeshTick(benchmark::State& state) {
 }
 BENCHMARK(BM_MeshTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
 
+// mesh-live: the live slices at the path's pose are generated before timing (as the background refresh would have
+// them); the tick then queries them (tick cost only; the refresh runs off the real-time thread).
+void BM_MeshLiveTick(benchmark::State& state) {
+  MeshWallRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().wall, 5, Atlas());
+  r.UseLiveBoundary(std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(), Config().live), 0,
+                    Config().live_switch_blend_s);
+  const Path path(state.range(0) != 0);
+  HapticInput in;
+  HapticOutput out;
+  in.X_OH = path.poses[0];
+  r.Reset(in.X_OH);
+  r.Tick(in, out);                  // posts the pose
+  r.StepSimulatedBackground(0.0);   // generates the live slices ...
+  r.StepSimulatedBackground(0.0);   // ... and publishes them (latency 0)
+  RunTicks(state, r, path);
+}
+BENCHMARK(BM_MeshLiveTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace robossis::haptics
