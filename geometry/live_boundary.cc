@@ -188,8 +188,7 @@ void LivePoseQuery::Query(LiveBoundary& live, const BoundaryAtlas* atlas, const 
   const BoundaryDistanceField* rotation_field =
       use_live_rotational ? live_rotational->field.get()
                           : (out->rotational_slice ? out->rotational_slice->field.get() : nullptr);
-  translation_query_.Query(translation_field, p, position_radius_m, &out->translation);
-  rotation_query_.Query(rotation_field, rpy, angle_radius_rad, &out->rotation);
+  fields_.QueryFields(translation_field, rotation_field, X_FM, position_radius_m, angle_radius_rad, out);
 }
 
 RefreshTiming MeasureRefreshTiming(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,

@@ -147,14 +147,10 @@ class LivePoseQuery {
   void Query(LiveBoundary& live, const BoundaryAtlas* atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
              double angle_radius_rad, PoseBoundaryResult* out) noexcept;
   // SignedDistanceQuery::set_inside_cutoff for both families (m, rad); not real-time.
-  void SetInsideCutoff(double position_m, double angle_rad) noexcept {
-    translation_query_.set_inside_cutoff(position_m);
-    rotation_query_.set_inside_cutoff(angle_rad);
-  }
+  void SetInsideCutoff(double position_m, double angle_rad) noexcept { fields_.SetInsideCutoff(position_m, angle_rad); }
 
  private:
-  SignedDistanceQuery translation_query_;
-  SignedDistanceQuery rotation_query_;
+  AtlasPoseQuery fields_;  // the two per-family queries (each keeps its own warm start)
 };
 
 // A deterministic stand-in for the background thread, in simulated time: a refresh started at time t from the pose
