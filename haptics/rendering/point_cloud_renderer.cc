@@ -49,7 +49,6 @@ PointCloudRenderer::PointCloudRenderer(const robot::RsrModel& model, const HcToR
 
 void PointCloudRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   R_translation_cloud_ = map_.ToRsr(X_OH).linear();
-  p_rotation_cloud_ = map_.ToRsr(X_OH).translation();
   filter_.Reset();
   last_dir_t_.setZero();
   last_dir_r_.setZero();
@@ -64,12 +63,9 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
   const Eigen::Matrix3d R = state.X_FM.linear();
   HapticStatus status = HapticStatus::kFree;
 
-  // Rotational cloud: orientations exp(ρ_j)·R_HC at the HC position. Soft torque wall (holds_orientation() false):
-  // at the last position where the translational cloud was free (previous tick), so that a translational push
-  // does not make the rotational cloud turn the hand either.
-  if (!decoupled_ || outside_t_ == 0) p_rotation_cloud_ = p;
+  // Rotational cloud: orientations exp(ρ_j)·R_HC at the HC position. (Evaluated first: the translational cloud of a
+  // soft torque wall needs to know whether it is in contact.)
   Eigen::Isometry3d X = state.X_FM;
-  X.translation() = p_rotation_cloud_;
   Eigen::Vector3d sum_rot_in = Eigen::Vector3d::Zero();
   int inside = 0;
   for (std::size_t j = 0; j < rotation_steps_.size(); ++j) {
@@ -97,9 +93,14 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
   }
 
   // Algorithm 1, lines 4–12, translational cloud: P_in offsets summed, outside points counted.
-  // A soft torque wall does not hold the orientation (holds_orientation()): the translational cloud stays at the
-  // last orientation where the rotational cloud was free, so that turning the hand into a rotational limit does
-  // not make the translational cloud push it sideways (haptics/README.md, "pointcloud-safe").
+  // A soft torque wall does not hold the orientation (holds_orientation() false): the translational cloud stays at
+  // the last orientation where the rotational cloud was free, so that turning the hand into a rotational limit does
+  // not make the translational cloud push it sideways. Evaluated at the HC orientation, that force depends on the
+  // orientation with no matching torque that depends on the position: a non-conservative field (+0.17 J of
+  // quasi-static work around a 15 mm × 7° loop in (x, pitch) near the tilt limit) that the paper's stiff torque
+  // wall keeps the hand away from, and a soft one does not (haptics/README.md, "Why pointcloud-safe generated
+  // energy"). The converse coupling (the rotational cloud at the HC position) stays: the stiff translational wall
+  // holds the position, and the soft torque it drives stores at most ~1 mJ in the hand.
   if (!decoupled_ || outside_r_ == 0) R_translation_cloud_ = R;
   X.linear() = R_translation_cloud_;
   X.translation() = p;

@@ -23,6 +23,9 @@
 //    We keep the last inward direction at full depth (radius), else the direction back to the RSR home pose, and
 //    report kDeepPenetration. The force stays bounded by the caps.
 //  * The moving average runs on every tick (contact and free), so entering and leaving contact are filtered alike.
+//  * A soft torque wall (ours, not the paper's: k_τ·r_rot/2 below the torque cap, the device-safe preset) cannot hold
+//    the hand's orientation; the translational cloud is then evaluated at the last orientation where the rotational
+//    cloud was free instead of at the HC orientation (holds_orientation(); haptics/README.md).
 
 #include <vector>
 
@@ -37,7 +40,8 @@ struct PointCloudParams {
   int translation_points = 200;                                 // [assumed] configurable
   int rotation_points = 200;                                    // [assumed] configurable
   int moving_average_window = 5;                                // [paper]
-  // [assumed, ours] see PointCloudRenderer::holds_orientation().
+  // [assumed, ours] For a soft torque wall, evaluate the translational cloud at the last orientation where the
+  // rotational cloud was free (PointCloudRenderer::holds_orientation()). No effect with the paper's constants.
   bool decouple_soft_torque_wall = true;
 };
 
@@ -82,7 +86,6 @@ class PointCloudRenderer final : public HapticRenderer {
   int outside_t_ = 0, outside_r_ = 0;
   bool decoupled_ = false;
   Eigen::Matrix3d R_translation_cloud_ = Eigen::Matrix3d::Identity();  // orientation of the translational cloud
-  Eigen::Vector3d p_rotation_cloud_ = Eigen::Vector3d::Zero();         // position of the rotational cloud
 };
 
 }  // namespace robossis::haptics
