@@ -31,6 +31,7 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.cloud.rotation_points = static_cast<int>(cloud.NumberInRange("rotation_points", 2, 100000));
   c.cloud.moving_average_window =
       static_cast<int>(cloud.NumberInRange("moving_average_window", 1, WeightedMovingAverage::kMaxWindow));
+  c.cloud.decouple_soft_torque_wall = cloud.Bool("decouple_soft_torque_wall");
   const ConfigNode proxy = root.Child("proxy");
   c.proxy.bisection_steps = static_cast<int>(proxy.NumberInRange("bisection_steps", 1, 60));
   c.proxy.max_slides = static_cast<int>(proxy.NumberInRange("max_slides", 1, 10));

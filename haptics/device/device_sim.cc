@@ -38,8 +38,10 @@ DeviceStepResult SimulatedSigma7::Step(double dt, const Eigen::Vector3d& f_cmd_O
         hand_.rot_damping_nms_per_rad * (target.w_O - w_O_);
     v_O_ += h / hand_.mass_kg * (f_hand + f - device_.damping_ns_per_m * v_O_);
     w_O_ += h / hand_.inertia_kgm2 * (tau_hand + tau - device_.rot_damping_nms_per_rad * w_O_);
-    result.energy_into_hand_j += (f.dot(v_O_) + tau.dot(w_O_)) * h;
-    // Mechanical limits: the handle stops at the delta workspace boundary and at the wrist stops.
+    // Mechanical limits: the handle stops at the delta workspace boundary and at the wrist stops. The work of the
+    // displayed wrench is counted with the velocity that actually moved the handle (zero when a stop held it):
+    // counting it before the stop credited the wall with work on a handle that did not move (0.4 J of phantom
+    // "generated" energy on push-edges for pointcloud-safe, whose force held the handle against a stop).
     const Eigen::Vector3d p_new = X_OH_.translation() + h * v_O_;
     if (robot::IsInSigma7Workspace(model_, p_new, X_OH_.linear()) ||
         !robot::IsInSigma7Workspace(model_, X_OH_.translation(), X_OH_.linear())) {
@@ -48,6 +50,7 @@ DeviceStepResult SimulatedSigma7::Step(double dt, const Eigen::Vector3d& f_cmd_O
       v_O_.setZero();
       result.at_mechanical_limit = true;
     }
+    result.energy_into_hand_j += f.dot(v_O_) * h;
     const Eigen::Matrix3d R_new = RotationFromVector(h * w_O_) * X_OH_.linear();
     if (robot::WristWithinRange(model_, robot::WristJointsFromRotation(R_new)) ||
         !robot::WristWithinRange(model_, robot::WristJointsFromRotation(X_OH_.linear()))) {
@@ -56,6 +59,7 @@ DeviceStepResult SimulatedSigma7::Step(double dt, const Eigen::Vector3d& f_cmd_O
       w_O_.setZero();
       result.at_mechanical_limit = true;
     }
+    result.energy_into_hand_j += tau.dot(w_O_) * h;
   }
   return result;
 }

@@ -36,6 +36,8 @@ PointCloudRenderer::PointCloudRenderer(const robot::RsrModel& model, const HcToR
                                 std::to_string(cloud.translation_points) + " and " +
                                 std::to_string(cloud.rotation_points) + " points)");
   }
+  // 1e-9 relative slack: the paper's constants land on the cap exactly (0.12 N·m/deg × 2.5° = 0.3 N·m).
+  decoupled_ = cloud.decouple_soft_torque_wall && torque_at_boundary_nm() < limits.max_torque_nm * (1 - 1e-9);
   for (const Eigen::Vector3d& u : FibonacciSphere(cloud.translation_points)) {
     translation_offsets_.push_back(cloud.translation_radius_m * u);
   }
@@ -45,7 +47,8 @@ PointCloudRenderer::PointCloudRenderer(const robot::RsrModel& model, const HcToR
   }
 }
 
-void PointCloudRenderer::ResetMethod(const Eigen::Isometry3d&) noexcept {
+void PointCloudRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
+  R_translation_cloud_ = map_.ToRsr(X_OH).linear();
   filter_.Reset();
   last_dir_t_.setZero();
   last_dir_r_.setZero();
@@ -60,39 +63,11 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
   const Eigen::Matrix3d R = state.X_FM.linear();
   HapticStatus status = HapticStatus::kFree;
 
-  // Algorithm 1, lines 4–12, translational cloud: P_in offsets summed, outside points counted.
+  // Rotational cloud: orientations exp(ρ_j)·R_HC at the HC position. (Evaluated first: the translational cloud of a
+  // soft torque wall needs to know whether it is in contact.)
   Eigen::Isometry3d X = state.X_FM;
-  Eigen::Vector3d sum_in = Eigen::Vector3d::Zero();
-  int inside = 0;
-  for (const Eigen::Vector3d& offset : translation_offsets_) {
-    X.translation() = p + offset;
-    if (robot::IsPoseFeasible(model_, X)) {
-      sum_in += offset;
-      ++inside;
-    }
-  }
-  outside_t_ = static_cast<int>(translation_offsets_.size()) - inside;
-  d_t_.setZero();
-  if (outside_t_ > 0) {
-    status = HapticStatus::kContact;
-    if (inside > 0) {
-      d_t_ = sum_in / inside;  // eq. 20 (our reading: mean offset of the inside points), n̂ = d/‖d‖ (eq. 21)
-      const double norm = d_t_.norm();
-      if (norm > 0) last_dir_t_ = d_t_ / norm;
-    } else {
-      // Every point outside: eq. 20 is undefined. Bounded fallback (README).
-      Eigen::Vector3d dir = last_dir_t_;
-      if (dir.squaredNorm() == 0) dir = model_.geometry().X_FM_home.translation() - p;
-      if (dir.squaredNorm() > 0) dir.normalize();
-      d_t_ = cloud_.translation_radius_m * dir;
-      status = HapticStatus::kDeepPenetration;
-    }
-  }
-
-  // Rotational cloud: orientations exp(ρ_j)·R_HC at the HC position.
-  X.translation() = p;
   Eigen::Vector3d sum_rot_in = Eigen::Vector3d::Zero();
-  inside = 0;
+  int inside = 0;
   for (std::size_t j = 0; j < rotation_steps_.size(); ++j) {
     X.linear() = rotation_steps_[j] * R;
     if (robot::IsPoseFeasible(model_, X)) {
@@ -103,7 +78,7 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
   outside_r_ = static_cast<int>(rotation_steps_.size()) - inside;
   d_r_.setZero();
   if (outside_r_ > 0) {
-    if (status == HapticStatus::kFree) status = HapticStatus::kContact;
+    status = HapticStatus::kContact;
     if (inside > 0) {
       d_r_ = sum_rot_in / inside;  // eq. 20, rotational part
       const double norm = d_r_.norm();
@@ -113,6 +88,45 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
       if (dir.squaredNorm() == 0) dir = RotationVector(model_.geometry().X_FM_home.linear() * R.transpose());
       if (dir.squaredNorm() > 0) dir.normalize();
       d_r_ = cloud_.rotation_radius_rad * dir;
+      status = HapticStatus::kDeepPenetration;
+    }
+  }
+
+  // Algorithm 1, lines 4–12, translational cloud: P_in offsets summed, outside points counted.
+  // A soft torque wall does not hold the orientation (holds_orientation() false): the translational cloud stays at
+  // the last orientation where the rotational cloud was free, so that turning the hand into a rotational limit does
+  // not make the translational cloud push it sideways. Evaluated at the HC orientation, that force depends on the
+  // orientation with no matching torque that depends on the position: a non-conservative field (+0.17 J of
+  // quasi-static work around a 15 mm × 7° loop in (x, pitch) near the tilt limit) that the paper's stiff torque
+  // wall keeps the hand away from, and a soft one does not (haptics/README.md, "Why pointcloud-safe generated
+  // energy"). The converse coupling (the rotational cloud at the HC position) stays: the stiff translational wall
+  // holds the position, and the soft torque it drives stores at most ~1 mJ in the hand.
+  if (!decoupled_ || outside_r_ == 0) R_translation_cloud_ = R;
+  X.linear() = R_translation_cloud_;
+  X.translation() = p;
+  Eigen::Vector3d sum_in = Eigen::Vector3d::Zero();
+  inside = 0;
+  for (const Eigen::Vector3d& offset : translation_offsets_) {
+    X.translation() = p + offset;
+    if (robot::IsPoseFeasible(model_, X)) {
+      sum_in += offset;
+      ++inside;
+    }
+  }
+  outside_t_ = static_cast<int>(translation_offsets_.size()) - inside;
+  d_t_.setZero();
+  if (outside_t_ > 0) {
+    if (status == HapticStatus::kFree) status = HapticStatus::kContact;
+    if (inside > 0) {
+      d_t_ = sum_in / inside;  // eq. 20 (our reading: mean offset of the inside points), n̂ = d/‖d‖ (eq. 21)
+      const double norm = d_t_.norm();
+      if (norm > 0) last_dir_t_ = d_t_ / norm;
+    } else {
+      // Every point outside: eq. 20 is undefined. Bounded fallback (README).
+      Eigen::Vector3d dir = last_dir_t_;
+      if (dir.squaredNorm() == 0) dir = model_.geometry().X_FM_home.translation() - p;
+      if (dir.squaredNorm() > 0) dir.normalize();
+      d_t_ = cloud_.translation_radius_m * dir;
       status = HapticStatus::kDeepPenetration;
     }
   }

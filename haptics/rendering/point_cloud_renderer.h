@@ -23,6 +23,9 @@
 //    We keep the last inward direction at full depth (radius), else the direction back to the RSR home pose, and
 //    report kDeepPenetration. The force stays bounded by the caps.
 //  * The moving average runs on every tick (contact and free), so entering and leaving contact are filtered alike.
+//  * A soft torque wall (ours, not the paper's: k_τ·r_rot/2 below the torque cap, the device-safe preset) cannot hold
+//    the hand's orientation; the translational cloud is then evaluated at the last orientation where the rotational
+//    cloud was free instead of at the HC orientation (holds_orientation(); haptics/README.md).
 
 #include <vector>
 
@@ -37,6 +40,9 @@ struct PointCloudParams {
   int translation_points = 200;                                 // [assumed] configurable
   int rotation_points = 200;                                    // [assumed] configurable
   int moving_average_window = 5;                                // [paper]
+  // [assumed, ours] For a soft torque wall, evaluate the translational cloud at the last orientation where the
+  // rotational cloud was free (PointCloudRenderer::holds_orientation()). No effect with the paper's constants.
+  bool decouple_soft_torque_wall = true;
 };
 
 // n unit vectors spread evenly on the sphere (Fibonacci lattice). Setup-time helper.
@@ -54,6 +60,12 @@ class PointCloudRenderer final : public HapticRenderer {
   int rotation_points_outside() const { return outside_r_; }
   const Eigen::Vector3d& last_penetration_translation() const { return d_t_; }
   const Eigen::Vector3d& last_penetration_rotation() const { return d_r_; }
+  // The torque of the rotational spring at the boundary, where half the cloud is inside (depth r_rot/2).
+  double torque_at_boundary_nm() const { return wall_.k_tau_nm_per_rad * 0.5 * cloud_.rotation_radius_rad; }
+  // False for a soft torque wall (torque_at_boundary_nm() below the torque cap: the device-safe preset), when
+  // decouple_soft_torque_wall is set. Such a wall cannot hold the hand's orientation, and the translational cloud is
+  // then evaluated at the last orientation where the rotational cloud was free, not at the HC orientation.
+  bool holds_orientation() const { return !decoupled_; }
 
  protected:
   HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept override;
@@ -72,6 +84,8 @@ class PointCloudRenderer final : public HapticRenderer {
   Eigen::Vector3d d_t_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d d_r_ = Eigen::Vector3d::Zero();
   int outside_t_ = 0, outside_r_ = 0;
+  bool decoupled_ = false;
+  Eigen::Matrix3d R_translation_cloud_ = Eigen::Matrix3d::Identity();  // orientation of the translational cloud
 };
 
 }  // namespace robossis::haptics

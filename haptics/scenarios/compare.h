@@ -6,7 +6,8 @@
 //                               feasible position at the same orientation / angle to the nearest feasible orientation
 //                               at the same position; each tick counts toward the cheaper of the two escapes
 //                               (15 mm ≡ 5°), since the coupled workspace can often be re-entered either way
-//   direction_error_deg_p95     angle between the rendered force (torque) and the true inward normal of the tightest
+//   direction_error_deg_p95     angle between the rendered wall force (torque) — the output minus the viscous −c·v
+//                               every method applies in free space too — and the true inward normal of the tightest
 //                               joint limit at the commanded pose, over ticks in contact with |F| > 1 N (|τ| > 0.02 N·m)
 //   max_force_step_n            largest change of the force vector from one tick to the next (continuity)
 //   saturation_time_s           time with the force or torque at its cap

@@ -42,5 +42,29 @@ TEST(Compare, SummaryHasTheIssueKeysForEveryMethod) {
   EXPECT_NE(table.find("*best*"), std::string::npos);
 }
 
+TEST(Compare, DirectionErrorScoresTheWallNotTheDamper) {
+  // On the strike's fast withdrawal (100 mm/s) the point cloud's force is its damper −c_f·v, toward the wall, on
+  // ticks that count as contact because the ROTATIONAL cloud still touches the cone limits (up to 36 mm inside).
+  // The direction error must score the wall, not that viscous drag (which is the same in free space): before the
+  // fix every such tick scored ~180°.
+  const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
+  HapticsConfig config = Config();
+  config.cloud.translation_points = 40;
+  config.cloud.rotation_points = 40;
+  const Scenario s = MakeScenario("strike", Rsr(), config.hand, config.strike_hand_stiffness_n_per_m, true);
+  const MethodRun run = RunMethod(s, "pointcloud", config, Rsr(), sigma7, CompareSettings{});
+  int withdrawing_damper_ticks = 0;
+  for (std::size_t k = 1; k < run.trace.size(); ++k) {
+    const TickRecord& r = run.trace[k];
+    const double vx_mm_s = (r.pose_mm_deg[0] - run.trace[k - 1].pose_mm_deg[0]) * 1000;
+    // Withdrawing fast, beyond the translational cloud's 15 mm reach: only the damper acts in translation.
+    if (vx_mm_s < -50 && r.push_signed < -16 && r.force_n.norm() > 1.0) {
+      ++withdrawing_damper_ticks;
+      EXPECT_LT(r.force_direction_error_deg, 0) << "scored at t = " << r.t_s << " s: " << r.force_direction_error_deg;
+    }
+  }
+  EXPECT_GT(withdrawing_damper_ticks, 20);  // the case is exercised
+}
+
 }  // namespace
 }  // namespace robossis::haptics
