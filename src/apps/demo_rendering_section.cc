@@ -93,7 +93,11 @@ void WriteRenderingSection(DemoContext& demo) {
   r << "Reading the tables: the point clouds start pushing up to 15 mm (5°) before the true boundary, so the HC "
        "barely crosses it but the usable workspace shrinks; the proxy lets the hand reach the true boundary and "
        "resists with a force along the exact normal, growing continuously from zero; the passivity controller "
-       "removes the energy a sampled wall can inject. Tick times are wall-clock on this machine, shared by other "
+       "removes the energy a sampled wall can inject. The mesh walls reach the boundary too, but inherit the "
+       "meshes' errors: the atlas node's slice jumps as the pose crosses between nodes (`mesh`), and even slices "
+       "regenerated at the pose (`mesh-live`) misplace the wall where the region is thin and moves fast (near the "
+       "tilt limit, at the scenarios' 1°/s) or comes to a sharp tip (the yaw limit in RPY space) — see "
+       "haptics/README.md. Tick times are wall-clock on this machine, shared by other "
        "jobs (see BENCHMARKS.md for the isolated benchmark).\n\n";
 }
 
