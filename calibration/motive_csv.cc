@@ -2,22 +2,16 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 
+#include "src/core/parse.h"
 #include "src/core/units.h"
 
 namespace robossis::calibration {
 
 namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '"' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
 
 std::string Lower(std::string_view s) {
   std::string out(s);
@@ -25,22 +19,13 @@ std::string Lower(std::string_view s) {
   return out;
 }
 
-bool ParseDouble(std::string_view s, double& value) {
-  s = Trim(s);
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  const char* end = s.data() + s.size();
-  const auto result = std::from_chars(s.data(), end, value);
-  return result.ec == std::errc() && result.ptr == end && std::isfinite(value);
-}
-
 bool AllEmpty(const std::vector<std::string_view>& fields) {
-  return std::all_of(fields.begin(), fields.end(), [](std::string_view f) { return Trim(f).empty(); });
+  return std::all_of(fields.begin(), fields.end(), [](std::string_view f) { return TrimField(f).empty(); });
 }
 
 struct AxisMap {
   static int Index(std::string_view axis) {
-    const std::string a = Lower(Trim(axis));
+    const std::string a = Lower(TrimField(axis));
     if (a == "x") return 0;
     if (a == "y") return 1;
     if (a == "z") return 2;
@@ -116,11 +101,11 @@ std::string MotiveLayout::RigidBodyNames() const {
 double MotiveRow::Number(int column) const {
   if (column < 0 || column >= static_cast<int>(fields_.size())) return kMissing;
   double value = 0;
-  return ParseDouble(fields_[column], value) ? value : kMissing;
+  return TryParseNumber(fields_[column], &value) ? value : kMissing;
 }
 
 bool MotiveRow::Empty(int column) const {
-  return column < 0 || column >= static_cast<int>(fields_.size()) || Trim(fields_[column]).empty();
+  return column < 0 || column >= static_cast<int>(fields_.size()) || TrimField(fields_[column]).empty();
 }
 
 void SplitCsvLine(std::string_view line, std::vector<std::string_view>& fields) {
@@ -176,7 +161,7 @@ void MotiveReader::ParseHeader() {
   std::vector<std::string_view> fields;
   if (!NextLine(line)) throw std::runtime_error(src + ": the file is empty; expected a Motive CSV export");
   SplitCsvLine(line, fields);
-  if (fields.size() >= 2 && Lower(Trim(fields[0])) == "format version") {
+  if (fields.size() >= 2 && Lower(TrimField(fields[0])) == "format version") {
     // key/value pairs
   } else if (line.find("Motive") != std::string::npos || line.rfind("comment", 0) == 0 ||
              line.rfind("info", 0) == 0) {
@@ -188,12 +173,12 @@ void MotiveReader::ParseHeader() {
   }
   std::map<std::string, std::string> meta;
   for (std::size_t i = 0; i + 1 < fields.size(); i += 2) {
-    const std::string key(Trim(fields[i]));
-    if (!key.empty()) meta[Lower(key)] = std::string(Trim(fields[i + 1]));
+    const std::string key(TrimField(fields[i]));
+    if (!key.empty()) meta[Lower(key)] = std::string(TrimField(fields[i + 1]));
   }
   header_.format_version = meta["format version"];
   double version = 0;
-  if (!ParseDouble(header_.format_version, version)) {
+  if (!TryParseNumber(header_.format_version, &version)) {
     throw std::runtime_error(where(1) + "'Format Version' is '" + header_.format_version + "'; expected a number such as 1.23");
   }
   if (version < 1.195) {
@@ -206,7 +191,7 @@ void MotiveReader::ParseHeader() {
   }
   header_.take_name = meta["take name"];
   auto rate = [&](const std::string& key, double& out) {
-    if (meta.count(key) && !meta[key].empty() && !ParseDouble(meta[key], out)) {
+    if (meta.count(key) && !meta[key].empty() && !TryParseNumber(meta[key], &out)) {
       throw std::runtime_error(where(1) + "'" + key + "' is '" + meta[key] + "'; expected a number in Hz");
     }
   };
@@ -218,7 +203,7 @@ void MotiveReader::ParseHeader() {
   }
   if (meta.count("total exported frames")) {
     double n = 0;
-    if (ParseDouble(meta["total exported frames"], n)) header_.total_exported_frames = static_cast<std::int64_t>(n);
+    if (TryParseNumber(meta["total exported frames"], &n)) header_.total_exported_frames = static_cast<std::int64_t>(n);
   }
   const std::string rotation = meta.count("rotation type") ? meta["rotation type"] : "Quaternion";
   bool known_rotation = false;
@@ -255,7 +240,7 @@ void MotiveReader::ParseHeader() {
     }
     SplitCsvLine(line, fields);
     if (AllEmpty(fields)) continue;  // the blank row (a spreadsheet may write it as commas)
-    if (Lower(Trim(fields[0])) == "frame") break;
+    if (Lower(TrimField(fields[0])) == "frame") break;
     rows.push_back(line);
     row_lines.push_back(line_number_);
     if (rows.size() > 16) {
@@ -279,14 +264,14 @@ void MotiveReader::ParseHeader() {
   // Spreadsheets add trailing empty cells: the number of columns is the last non-empty axis or type cell.
   std::size_t ncols = 0;
   for (std::size_t c = 0; c < std::max(axis.size(), type_row.size()); ++c) {
-    const bool has_axis = c < axis.size() && !Trim(axis[c]).empty();
-    const bool has_type = c < type_row.size() && !Trim(type_row[c]).empty();
+    const bool has_axis = c < axis.size() && !TrimField(axis[c]).empty();
+    const bool has_type = c < type_row.size() && !TrimField(type_row[c]).empty();
     if (has_axis || (c >= 2 && has_type)) ncols = c + 1;
   }
   layout_.num_columns = static_cast<int>(ncols);
-  if (ncols >= 2 && Lower(Trim(axis[1])).rfind("time", 0) == 0) layout_.time_column = 1;
+  if (ncols >= 2 && Lower(TrimField(axis[1])).rfind("time", 0) == 0) layout_.time_column = 1;
   auto cell = [](const std::vector<std::string_view>& r, std::size_t c) {
-    return c < r.size() ? std::string(Trim(r[c])) : std::string();
+    return c < r.size() ? std::string(TrimField(r[c])) : std::string();
   };
   std::map<std::string, int> rb_index, rbm_index, m_index;
   int asset_columns = 0;
@@ -377,7 +362,7 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
   row.line_number = line_number_;
   row.length_scale_ = header_.length_scale_to_m;
   double frame = 0;
-  if (!ParseDouble(row.fields_[0], frame) || frame != std::floor(frame) || frame < 0 || frame > 9.0e15) {
+  if (!TryParseNumber(row.fields_[0], &frame) || frame != std::floor(frame) || frame < 0 || frame > 9.0e15) {
     throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the Frame cell is '" +
                              std::string(row.fields_[0].substr(0, 40)) + "'; expected a non-negative whole number");
   }
@@ -397,10 +382,10 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
                              std::to_string(nfields) + " of " + std::to_string(layout_.num_columns) +
                              " cells and no line end: the file is truncated");
   }
-  if (nfields < layout_.num_columns && nfields > 2 && !Trim(row.fields_.back()).empty()) {
+  if (nfields < layout_.num_columns && nfields > 2 && !TrimField(row.fields_.back()).empty()) {
     // Motive itself writes every column; a short row with a value at its end is a truncated file.
     double v = 0;
-    if (!ParseDouble(row.fields_.back(), v)) {
+    if (!TryParseNumber(row.fields_.back(), &v)) {
       throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": row has " +
                                std::to_string(nfields) + " cells, the header has " +
                                std::to_string(layout_.num_columns) + ", and its last cell is not a number: truncated?");

@@ -1,7 +1,6 @@
 #include "calibration/trajectory.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -9,25 +8,12 @@
 
 #include "src/core/files.h"
 #include "src/core/pose.h"
+#include "src/core/parse.h"
 #include "src/core/units.h"
 
 namespace robossis::calibration {
 
 namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '"' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
-bool ParseDouble(std::string_view s, double& value) {
-  s = Trim(s);
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  const auto result = std::from_chars(s.data(), s.data() + s.size(), value);
-  return result.ec == std::errc() && result.ptr == s.data() + s.size() && std::isfinite(value);
-}
 
 std::vector<std::string_view> Split(std::string_view line, bool whitespace_too) {
   std::vector<std::string_view> out;
@@ -35,7 +21,7 @@ std::vector<std::string_view> Split(std::string_view line, bool whitespace_too) 
   while (i <= line.size()) {
     std::size_t j = i;
     while (j < line.size() && line[j] != ',' && !(whitespace_too && (line[j] == ' ' || line[j] == '\t'))) ++j;
-    const std::string_view field = Trim(line.substr(i, j - i));
+    const std::string_view field = TrimField(line.substr(i, j - i));
     if (!whitespace_too || !field.empty()) out.push_back(field);
     i = j + 1;
   }
@@ -57,7 +43,7 @@ void ForEachLine(const std::string& text, Fn fn) {
 }
 
 bool IsCommentOrBlank(std::string_view line) {
-  const std::string_view t = Trim(line);
+  const std::string_view t = TrimField(line);
   return t.empty() || t.front() == '#';
 }
 
@@ -155,7 +141,7 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
     }
     auto num = [&](int c) {
       double v = 0;
-      if (!ParseDouble(f[c], v)) {
+      if (!TryParseNumber(f[c], &v)) {
         throw std::runtime_error(Where(source_name, number) + "column '" +
                                  [&] {
                                    for (const auto& [n, i] : col) {
@@ -219,7 +205,7 @@ PoseTrajectory ParseTum(const std::string& text, const std::string& source_name)
     }
     double v[8];
     for (int k = 0; k < 8; ++k) {
-      if (!ParseDouble(f[k], v[k])) {
+      if (!TryParseNumber(f[k], &v[k])) {
         throw std::runtime_error(Where(source_name, number) + "value " + std::to_string(k + 1) + " is '" +
                                  std::string(f[k].substr(0, 30)) + "'; expected a number");
       }

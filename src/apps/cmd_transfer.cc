@@ -37,9 +37,7 @@ struct CommonOptions {
   }
 
   ChainSetup Setup(const AppContext& context, const robot::RsrModel& model) const {
-    ChainSetup s;
-    s.transfer = transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml"));
-    s.actuation = actuation::ActuationConfig::FromYaml(context.ConfigPath("actuation.yaml"));
+    ChainSetup s = DefaultChainSetup(context, model);
     if (clinical) {
       s.transfer.caps.max_linear_speed_m_s = MmToM(2.0);     // [paper §V]
       s.transfer.caps.max_angular_speed_rad_s = DegToRad(0.2);  // [paper §V]
@@ -55,8 +53,7 @@ struct CommonOptions {
       s.transfer.caps.max_angular_speed_rad_s = DegToRad(max_angular_speed_deg_s);
     }
     s.transfer.Validate();
-    s.model = &model;
-    s.X_FM_start = start_pose.empty() ? model.geometry().X_FM_home : ParsePoseMmDeg(start_pose, "--start-pose");
+    if (!start_pose.empty()) s.X_FM_start = ParsePoseMmDeg(start_pose, "--start-pose");
     if (!robot::IsPoseFeasible(model, s.X_FM_start)) {
       throw std::invalid_argument("--start-pose: the pose is outside the RSR's joint limits");
     }

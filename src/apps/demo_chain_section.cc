@@ -27,11 +27,7 @@ std::string Num(double v, const char* format = "%.4f") {
 void WriteChainSection(DemoContext& demo) {
   demo.Progress("chain: Fig. 8 hand -> transfer -> actuation -> Bullet follower");
   const robot::RsrModel model = demo.app.LoadRsr();
-  ChainSetup setup;
-  setup.transfer = transfer::TransferConfig::FromYaml(demo.app.ConfigPath("transfer.yaml"));
-  setup.actuation = actuation::ActuationConfig::FromYaml(demo.app.ConfigPath("actuation.yaml"));
-  setup.model = &model;
-  setup.X_FM_start = model.geometry().X_FM_home;
+  const ChainSetup setup = DefaultChainSetup(demo.app, model);
   const TransferTrace trace = RunTransferChain(transfer::MakeScenario("fig8"), setup);
 
   // The mechanism alone (no fragments: at the home pose the distal fragment sits against the proximal one, and the

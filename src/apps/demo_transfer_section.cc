@@ -30,11 +30,7 @@ struct SweepSetting {
 
 void WriteTransferSection(DemoContext& demo) {
   const robot::RsrModel model = demo.app.LoadRsr();
-  ChainSetup setup;
-  setup.transfer = transfer::TransferConfig::FromYaml(demo.app.ConfigPath("transfer.yaml"));
-  setup.actuation = actuation::ActuationConfig::FromYaml(demo.app.ConfigPath("actuation.yaml"));
-  setup.model = &model;
-  setup.X_FM_start = model.geometry().X_FM_home;
+  const ChainSetup setup = DefaultChainSetup(demo.app, model);
   const transfer::TransferConfig& tc = setup.transfer;
   const double cap_v = MToMm(tc.caps.max_linear_speed_m_s), cap_w = RadToDeg(tc.caps.max_angular_speed_rad_s);
 

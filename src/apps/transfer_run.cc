@@ -147,6 +147,15 @@ class Recorder {
 
 }  // namespace
 
+ChainSetup DefaultChainSetup(const AppContext& app, const robot::RsrModel& model) {
+  ChainSetup setup;
+  setup.transfer = transfer::TransferConfig::FromYaml(app.ConfigPath("transfer.yaml"));
+  setup.actuation = actuation::ActuationConfig::FromYaml(app.ConfigPath("actuation.yaml"));
+  setup.model = &model;
+  setup.X_FM_start = model.geometry().X_FM_home;
+  return setup;
+}
+
 TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup) {
   if (hc.records.empty()) throw std::invalid_argument("transfer: the HC trajectory has no samples");
   TransferTrace tr;

@@ -12,6 +12,7 @@
 #include "haptics/transfer/motion_transfer.h"
 #include "haptics/transfer/timed_move.h"
 #include "robot/actuation/actuator.h"
+#include "src/apps/app_context.h"
 #include "src/core/files.h"
 
 namespace robossis::apps {
@@ -64,6 +65,10 @@ struct ChainSetup {
   bool with_actuation = true;  // false: transfer only (the filter sweep)
   double settle_s = 1.0;       // extra time after the last sample
 };
+
+// The chain as configured: transfer.yaml and actuation.yaml of the app's data folder, starting at the home pose of
+// `model` (which must outlive the setup).
+ChainSetup DefaultChainSetup(const AppContext& app, const robot::RsrModel& model);
 
 // Replays an HC trajectory through the chain.
 TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup);

@@ -1,31 +1,33 @@
 #include "src/core/parse.h"
 
-#include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace robossis {
 
-namespace {
-bool TryParse(std::string_view field, double* out) {
-  // Trim spaces; strtod needs a NUL-terminated copy.
-  while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
-  while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+std::string_view TrimField(std::string_view s) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '"' || c == '\r'; };
+  while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+bool TryParseNumber(std::string_view field, double* out) {
+  field = TrimField(field);
+  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
   if (field.empty()) return false;
-  const std::string copy(field);
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(copy.c_str(), &end);
-  if (end != copy.c_str() + copy.size() || errno == ERANGE || !std::isfinite(v)) return false;
+  double v = 0.0;
+  const char* end = field.data() + field.size();
+  const auto result = std::from_chars(field.data(), end, v);
+  if (result.ec != std::errc() || result.ptr != end || !std::isfinite(v)) return false;
   *out = v;
   return true;
 }
-}  // namespace
 
 double ParseNumber(std::string_view text, const std::string& option_name) {
   double v = 0.0;
-  if (!TryParse(text, &v)) {
+  if (!TryParseNumber(text, &v)) {
     throw std::invalid_argument(option_name + ": expected a finite number, got '" + std::string(text) + "'");
   }
   return v;
@@ -49,7 +51,7 @@ std::vector<double> ParseNumberList(std::string_view text, std::size_t count, co
   }
   std::vector<double> out(count);
   for (std::size_t i = 0; i < count; ++i) {
-    if (!TryParse(fields[i], &out[i])) {
+    if (!TryParseNumber(fields[i], &out[i])) {
       throw std::invalid_argument(option_name + ": " + expected + "; value " + std::to_string(i + 1) + " is '" +
                                   std::string(fields[i]) + "', not a finite number");
     }

@@ -15,4 +15,11 @@ std::vector<double> ParseNumberList(std::string_view text, std::size_t count, co
 // Parses one finite number; throws std::invalid_argument naming the option.
 double ParseNumber(std::string_view text, const std::string& option_name);
 
+// A text field without surrounding spaces, tabs or double quotes, nor a trailing carriage return (CSV fields,
+// command-line values).
+std::string_view TrimField(std::string_view field);
+
+// Parses one finite number from a field (trimmed as above; a leading '+' allowed). False if it is not exactly one.
+bool TryParseNumber(std::string_view field, double* out);
+
 }  // namespace robossis
