@@ -52,6 +52,19 @@ TEST(ParseTest, WrongCountNamesOptionAndCount) {
   }
 }
 
+TEST(ParseTest, FieldsAreTrimmedOfBlanksQuotesAndCarriageReturns) {
+  EXPECT_EQ(TrimField(" \t\"12.5\"\r"), "12.5");
+  double v = 0;
+  EXPECT_TRUE(TryParseNumber(" +3.25 ", &v));
+  EXPECT_DOUBLE_EQ(v, 3.25);
+  EXPECT_TRUE(TryParseNumber("\"-1e-3\"\r", &v));
+  EXPECT_DOUBLE_EQ(v, -1e-3);
+  EXPECT_FALSE(TryParseNumber("", &v));
+  EXPECT_FALSE(TryParseNumber("1.5x", &v));
+  EXPECT_FALSE(TryParseNumber("1e999", &v));
+  EXPECT_FALSE(TryParseNumber("nan", &v));
+}
+
 TEST(ParseTest, RejectsNanInfAndGarbage) {
   for (const char* bad : {"1,nan,3", "1,inf,3", "1,x,3", "1,,3", "1,2e999,3"}) {
     EXPECT_THROW(ParseNumberList(bad, 3, "--x", "A,B,C"), std::invalid_argument) << bad;
