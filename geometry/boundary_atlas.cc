@@ -289,19 +289,22 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
 
 void AtlasPoseQuery::Query(const BoundaryAtlas& atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
                            double angle_radius_rad, PoseBoundaryResult* out) noexcept {
-  out->dexterous_slice = atlas.FindDexterous(RpyFromRotation(X_FM.linear()));
-  out->rotational_slice = atlas.FindRotational(X_FM.translation());
+  const Eigen::Vector3d p = X_FM.translation();
+  const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
+  out->dexterous_slice = atlas.FindDexterous(rpy);
+  out->rotational_slice = atlas.FindRotational(p);
   out->live_dexterous_slice = out->live_rotational_slice = nullptr;
   QueryFields(out->dexterous_slice ? out->dexterous_slice->field.get() : nullptr,
-              out->rotational_slice ? out->rotational_slice->field.get() : nullptr, X_FM, position_radius_m,
+              out->rotational_slice ? out->rotational_slice->field.get() : nullptr, p, rpy, position_radius_m,
               angle_radius_rad, out);
 }
 
 void AtlasPoseQuery::QueryFields(const BoundaryDistanceField* translation_field,
-                                 const BoundaryDistanceField* rotation_field, const Eigen::Isometry3d& X_FM,
-                                 double position_radius_m, double angle_radius_rad, PoseBoundaryResult* out) noexcept {
-  translation_query_.Query(translation_field, X_FM.translation(), position_radius_m, &out->translation);
-  rotation_query_.Query(rotation_field, RpyFromRotation(X_FM.linear()), angle_radius_rad, &out->rotation);
+                                 const BoundaryDistanceField* rotation_field, const Eigen::Vector3d& p_FM,
+                                 const Eigen::Vector3d& rpy, double position_radius_m, double angle_radius_rad,
+                                 PoseBoundaryResult* out) noexcept {
+  translation_query_.Query(translation_field, p_FM, position_radius_m, &out->translation);
+  rotation_query_.Query(rotation_field, rpy, angle_radius_rad, &out->rotation);
 }
 
 }  // namespace robossis::geometry

@@ -115,10 +115,11 @@ class AtlasPoseQuery {
   // position_radius_m / angle_radius_rad: radius of the query sphere (0 for a point).
   void Query(const BoundaryAtlas& atlas, const Eigen::Isometry3d& X_FM, double position_radius_m,
              double angle_radius_rad, PoseBoundaryResult* out) noexcept;
-  // The two queries against given fields (null: kNoField); fills out->translation and out->rotation only.
+  // The two queries against given fields (null: kNoField) at the pose (p_FM, rpy); fills out->translation and
+  // out->rotation only.
   void QueryFields(const BoundaryDistanceField* translation_field, const BoundaryDistanceField* rotation_field,
-                   const Eigen::Isometry3d& X_FM, double position_radius_m, double angle_radius_rad,
-                   PoseBoundaryResult* out) noexcept;
+                   const Eigen::Vector3d& p_FM, const Eigen::Vector3d& rpy, double position_radius_m,
+                   double angle_radius_rad, PoseBoundaryResult* out) noexcept;
   // SignedDistanceQuery::set_inside_cutoff for both families (m, rad); not real-time.
   void SetInsideCutoff(double position_m, double angle_rad) noexcept {
     translation_query_.set_inside_cutoff(position_m);

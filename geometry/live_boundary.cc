@@ -44,8 +44,10 @@ LiveBoundary::LiveBoundary(const robot::RsrModel& rsr, const robot::Sigma7Model&
 LiveBoundary::~LiveBoundary() { Stop(); }
 
 void LiveBoundary::PostPose(const Eigen::Isometry3d& X_FM) noexcept {
-  const Eigen::Vector3d p = X_FM.translation();
-  const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
+  PostPose(X_FM.translation(), RpyFromRotation(X_FM.linear()));
+}
+
+void LiveBoundary::PostPose(const Eigen::Vector3d& p, const Eigen::Vector3d& rpy) noexcept {
   // Sequence lock, writer side (single writer): odd while writing.
   const std::uint64_t s = pose_sequence_.load(std::memory_order_relaxed);
   pose_sequence_.store(s + 1, std::memory_order_relaxed);
@@ -168,7 +170,7 @@ void LivePoseQuery::Query(LiveBoundary& live, const BoundaryAtlas* atlas, const 
                           double position_radius_m, double angle_radius_rad, PoseBoundaryResult* out) noexcept {
   const Eigen::Vector3d p = X_FM.translation();
   const Eigen::Vector3d rpy = RpyFromRotation(X_FM.linear());
-  live.PostPose(X_FM);
+  live.PostPose(p, rpy);
   const LiveSlice* live_dexterous = live.AcquireDexterous();
   const LiveSlice* live_rotational = live.AcquireRotational();
   out->dexterous_slice = atlas ? atlas->FindDexterous(rpy) : nullptr;
@@ -188,7 +190,7 @@ void LivePoseQuery::Query(LiveBoundary& live, const BoundaryAtlas* atlas, const 
   const BoundaryDistanceField* rotation_field =
       use_live_rotational ? live_rotational->field.get()
                           : (out->rotational_slice ? out->rotational_slice->field.get() : nullptr);
-  fields_.QueryFields(translation_field, rotation_field, X_FM, position_radius_m, angle_radius_rad, out);
+  fields_.QueryFields(translation_field, rotation_field, p, rpy, position_radius_m, angle_radius_rad, out);
 }
 
 RefreshTiming MeasureRefreshTiming(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,

@@ -70,6 +70,8 @@ class LiveBoundary {
   // ---- real-time thread ----
   // Tells the refresher where the RSR is (pose of M in F). Wait-free.
   void PostPose(const Eigen::Isometry3d& X_FM) noexcept;
+  // The same with the pose as position (m) and rpy (rad), when the caller has them already.
+  void PostPose(const Eigen::Vector3d& p_FM, const Eigen::Vector3d& rpy) noexcept;
   // The newest slice of each family, or nullptr before the first one. The pointer stays valid until the next
   // Acquire of the same family by the same (single) real-time thread.
   const LiveSlice* AcquireDexterous() noexcept { return Acquire(0); }

@@ -60,6 +60,28 @@ void BM_RotationalSlice(benchmark::State& state) {
 }
 BENCHMARK(BM_RotationalSlice)->Arg(40)->Arg(20)->Arg(10)->Unit(benchmark::kMillisecond)->Iterations(2);
 
+// Wall-clock latency of each call, for the p50/p99/max counters (Google Benchmark reports only means).
+class Latencies {
+ public:
+  Latencies() { ns_.reserve(1 << 20); }
+  template <typename F>
+  void Time(F&& call) {
+    const auto t0 = std::chrono::steady_clock::now();
+    call();
+    const auto t1 = std::chrono::steady_clock::now();
+    if (ns_.size() < ns_.capacity()) ns_.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+  }
+  void Report(benchmark::State& state) {
+    std::sort(ns_.begin(), ns_.end());
+    state.counters["p50_us"] = ns_[ns_.size() / 2] * 1e-3;
+    state.counters["p99_us"] = ns_[ns_.size() * 99 / 100] * 1e-3;
+    state.counters["max_us"] = ns_.back() * 1e-3;
+  }
+
+ private:
+  std::vector<double> ns_;
+};
+
 // Query latency percentiles over fixed random points near the boundary (vertex + uniform +/-15 mm) of a dexterous
 // slice whose resolution (tenths of a mm) sets the triangle count.
 void BM_SignedDistanceQuery(benchmark::State& state) {
@@ -72,22 +94,15 @@ void BM_SignedDistanceQuery(benchmark::State& state) {
   std::uniform_real_distribution<double> u(-0.015, 0.015);
   std::vector<Eigen::Vector3d> points(4096);
   for (auto& p : points) p = slice.mesh.vertices[pick(gen)] + Eigen::Vector3d(u(gen), u(gen), u(gen));
-  std::vector<double> ns;
-  ns.reserve(1 << 20);
+  Latencies latencies;
   std::size_t i = 0;
   SignedDistanceResult r;
   for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    query.Query(&field, points[i++ & 4095], 0.0, &r);
-    const auto t1 = std::chrono::steady_clock::now();
+    latencies.Time([&] { query.Query(&field, points[i++ & 4095], 0.0, &r); });
     benchmark::DoNotOptimize(r.signed_distance);
-    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
   }
-  std::sort(ns.begin(), ns.end());
   state.counters["triangles"] = static_cast<double>(slice.stats.triangles);
-  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
-  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
-  state.counters["max_us"] = ns.back() * 1e-3;
+  latencies.Report(state);
 }
 BENCHMARK(BM_SignedDistanceQuery)->Arg(130)->Arg(42)->Unit(benchmark::kMicrosecond);
 
@@ -105,22 +120,15 @@ void BM_SignedDistanceQueryCoherent(benchmark::State& state) {
     const double a = 2 * kPi * k / points.size();
     points[k] = centre + 0.02 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.3 * std::sin(2 * a));
   }
-  std::vector<double> ns;
-  ns.reserve(1 << 20);
+  Latencies latencies;
   std::size_t i = 0;
   SignedDistanceResult r;
   for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    query.Query(&field, points[i++ % points.size()], 0.0, &r);
-    const auto t1 = std::chrono::steady_clock::now();
+    latencies.Time([&] { query.Query(&field, points[i++ % points.size()], 0.0, &r); });
     benchmark::DoNotOptimize(r.signed_distance);
-    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
   }
-  std::sort(ns.begin(), ns.end());
   state.counters["triangles"] = static_cast<double>(slice.stats.triangles);
-  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
-  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
-  state.counters["max_us"] = ns.back() * 1e-3;
+  latencies.Report(state);
 }
 BENCHMARK(BM_SignedDistanceQueryCoherent)->Arg(130)->Arg(42)->Unit(benchmark::kMicrosecond);
 
@@ -184,20 +192,13 @@ void BM_LivePoseQuery(benchmark::State& state) {
     path[k] = PoseFromPositionRpy(home + Eigen::Vector3d(0.13 + 0.02 * std::cos(a), 0.02 * std::sin(a), 0),
                                   Eigen::Vector3d(0, 0, DegToRad(0.5) * std::sin(a)));
   }
-  std::vector<double> ns;
-  ns.reserve(1 << 20);
+  Latencies latencies;
   std::size_t i = 0;
   for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    query.Query(live, nullptr, path[i++ % path.size()], 0.0, 0.0, &r);
-    const auto t1 = std::chrono::steady_clock::now();
+    latencies.Time([&] { query.Query(live, nullptr, path[i++ % path.size()], 0.0, 0.0, &r); });
     benchmark::DoNotOptimize(r.translation.signed_distance);
-    if (ns.size() < ns.capacity()) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
   }
-  std::sort(ns.begin(), ns.end());
-  state.counters["p50_us"] = ns[ns.size() / 2] * 1e-3;
-  state.counters["p99_us"] = ns[ns.size() * 99 / 100] * 1e-3;
-  state.counters["max_us"] = ns.back() * 1e-3;
+  latencies.Report(state);
 }
 BENCHMARK(BM_LivePoseQuery)->Unit(benchmark::kMicrosecond);
 
