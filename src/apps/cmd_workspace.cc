@@ -207,7 +207,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                   err["rotational_deg"]["off_grid"]["max"].get<double>());
       std::fprintf(stderr, "measuring the live-slice error at clinical speeds (%d poses per family)...\n",
                    at->error_samples);
-      const geometry::LiveBoundaryOptions live;
+      const geometry::LiveBoundaryOptions live = ConfiguredLiveOptions(context);
       err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, at->error_samples), live);
       const json& l = err["live"];
       std::printf("live slices (refreshed at the pose; %.3f s + %.3f s per refresh; staleness %.3f deg / %.2f mm at "
@@ -247,10 +247,8 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const geometry::BoundaryAtlas atlas =
         qo->atlas.empty() ? geometry::BoundaryAtlas() : geometry::BoundaryAtlas::Load(qo->atlas);
     geometry::PoseBoundaryResult r;
-    const robot::RsrModel rsr = context.LoadRsr();
-    const robot::Sigma7Model sigma7 = context.LoadSigma7();
-    geometry::LiveBoundary live(rsr, sigma7);
     if (qo->live) {
+      geometry::LiveBoundary live(context.LoadRsr(), context.LoadSigma7(), ConfiguredLiveOptions(context));
       live.PostPose(X_FM);
       live.RefreshNow();
       geometry::LivePoseQuery query;

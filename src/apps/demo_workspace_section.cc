@@ -139,7 +139,7 @@ void WriteWorkspaceSection(DemoContext& demo) {
   eo.samples = demo.fast ? 8 : 40;
   const geometry::AtlasErrorReport err = geometry::MeasureAtlasError(rsr, hc, atlas, eo);
   demo.Progress("workspace: live-slice error at clinical speeds");
-  const geometry::LiveBoundaryOptions live_options;
+  const geometry::LiveBoundaryOptions live_options = ConfiguredLiveOptions(demo.app);
   const geometry::ClinicalLiveError live =
       geometry::MeasureClinicalLiveError(rsr, hc, spec, live_options, demo.fast ? 4 : 40);
   auto error_json = AtlasErrorJson(err);

@@ -1,10 +1,15 @@
 #include "src/apps/workspace_json.h"
 
+#include "haptics/haptics_config.h"
 #include "src/core/units.h"
 
 namespace robossis::apps {
 
 using json = nlohmann::ordered_json;
+
+geometry::LiveBoundaryOptions ConfiguredLiveOptions(const AppContext& app) {
+  return haptics::HapticsConfig::FromYaml(app.ConfigPath("haptics.yaml")).live;
+}
 
 json SliceSummaryJson(const geometry::WorkspaceSlice& slice) {
   const geometry::SliceKind kind = slice.spec.kind;
