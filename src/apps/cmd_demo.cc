@@ -1,6 +1,7 @@
 // `robossis demo`: a complete simulated session and its report.
 
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
@@ -59,6 +60,18 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
     out.Commit();
     demo.Progress("report written to " + (out.target() / "report.md").string());
   });
+}
+
+std::string FormatFixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string FormatNumber(double v, const char* printf_format) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, printf_format, v);
+  return buf;
 }
 
 }  // namespace robossis::apps

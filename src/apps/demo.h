@@ -26,6 +26,10 @@ struct DemoContext {
 };
 
 // The sections, in report order.
+// Numbers in the report: fixed decimals, or a printf format for one double ("%.3g").
+std::string FormatFixed(double v, int decimals);
+std::string FormatNumber(double v, const char* printf_format);
+
 void WriteRobotSection(DemoContext& demo);      // ## 1. The robots (robot/)
 void WriteWorkspaceSection(DemoContext& demo);  // ## 2. Workspaces (geometry/)
 void WriteRenderingSection(DemoContext& demo);  // ## 3. Haptic rendering (haptics/)

@@ -17,11 +17,7 @@
 namespace robossis::apps {
 
 namespace {
-std::string Num(double v, const char* format = "%.4f") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string Num(double v, const char* format = "%.4f") { return FormatNumber(v, format); }
 }  // namespace
 
 void WriteChainSection(DemoContext& demo) {

@@ -15,11 +15,7 @@ namespace robossis::apps {
 
 namespace {
 
-std::string Fmt(double v, int decimals = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string Fmt(double v, int decimals = 1) { return FormatFixed(v, decimals); }
 
 // Largest s in [0, s_max] with feasible(s) true for all of [0, s], by bisection (feasible(0) must hold).
 double ReachAlong(const std::function<bool(double)>& feasible, double s_max) {

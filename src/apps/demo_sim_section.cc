@@ -11,11 +11,7 @@ namespace robossis::apps {
 
 namespace {
 
-std::string Fmt(double v, const char* format = "%.3g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string Fmt(double v, const char* format = "%.3g") { return FormatNumber(v, format); }
 
 struct DemoRun {
   std::string name;

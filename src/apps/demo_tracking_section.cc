@@ -22,11 +22,7 @@ namespace robossis::apps {
 
 namespace {
 
-std::string Fmt(double v, int decimals = 3) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string Fmt(double v, int decimals = 3) { return FormatFixed(v, decimals); }
 
 // A smooth, non-periodic 6-DOF motion about home: sums of incommensurate sinusoids under a raised-cosine envelope
 // (starts and ends at rest at home). Amplitudes halve until every sample is feasible.

@@ -13,11 +13,7 @@ namespace robossis::apps {
 
 namespace {
 
-std::string Fmt(double v, int decimals = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string Fmt(double v, int decimals = 2) { return FormatFixed(v, decimals); }
 
 struct SweepSetting {
   std::string label;

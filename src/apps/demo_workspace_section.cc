@@ -19,11 +19,7 @@ namespace {
 
 using geometry::SliceKind;
 
-std::string Fmt(double v, int decimals = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string Fmt(double v, int decimals = 1) { return FormatFixed(v, decimals); }
 
 struct NamedSlice {
   std::string name;     // file stem
