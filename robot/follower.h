@@ -1,6 +1,14 @@
 #pragma once
-// The follower (RSR) as the rest of the workbench sees it: joint commands in, measured joints and pose out.
-// Served by the Bullet simulation, by a pulse recorder, and later by the real motor drivers.
+// The follower (RSR) as the rest of the workbench sees it: a drive with a life cycle (enable, disable, home, fault
+// reset), joint commands in, measured joints, pose, efforts and a fault code out. Served by the Bullet simulation,
+// the pulse recorder and the real motor drives (LinuxCNC HAL), all behind this one interface.
+//
+// What a driver needs, and why each call is here: drives are powered (Enable) and unpowered (Disable, which holds
+// the brakes or the current position); incremental encoders need a reference (Home); a latched drive fault needs an
+// explicit acknowledgement (ResetFault). Service() is the back end's periodic work at the follower's servo rate
+// (step the simulation to `now_s`, exchange HAL pins), called by the follower unit after Command().
+
+#include <cstdint>
 
 #include <Eigen/Geometry>
 
@@ -15,20 +23,47 @@ struct RsrJointCommand {
   RsrJointVector q_dot = RsrJointVector::Zero();
 };
 
+// The back end's fault condition. The follower unit's state machine latches it (FAULT until a reset); a back end
+// whose hardware latches its own faults clears them in ResetFault().
+enum class FollowerFault : std::uint8_t {
+  kNone,
+  kJointLimit,      // a measured joint reached a stroke, rotary or spherical-cone limit
+  kDrive,           // a drive reported a fault (or hit its force/torque limit, in the simulation)
+  kFeedbackLost,    // no position feedback from the drives (a dead HAL component, a lost link to the drives)
+  kFollowingError,  // the measured joints left the command by more than the back end tolerates
+  kUnstable,        // the simulation diverged
+  kExternal,        // a fault input raised outside the program (the HAL fault pin, an external E-stop chain)
+};
+const char* ToString(FollowerFault fault);
+
 // What the follower measures.
 struct RsrFollowerState {
   double time_s = 0;
   RsrJointVector q = RsrJointVector::Zero();                // actuated joints, eq. 13 order
   Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();  // moving-ring pose (measured, or FK of q)
   RsrJointVector effort = RsrJointVector::Zero();           // rotary torques (N·m), linear forces (N)
-  bool fault = false;                                       // a limit or a drive fault; the follower holds
+  bool enabled = false;                                     // drives powered and following commands
+  bool homed = false;                                       // joint positions referenced
+  FollowerFault fault = FollowerFault::kNone;               // the back end's current fault condition
+  bool faulted() const noexcept { return fault != FollowerFault::kNone; }
 };
 
-// Real-time interface: both calls are allocation-free and never throw.
+// Real-time interface: every call is allocation-free and never throws.
 class Follower {
  public:
   virtual ~Follower() = default;
+  // Powers the drives; false (and nothing changes) while a fault is latched or the back end refuses.
+  virtual bool Enable() noexcept = 0;
+  // Unpowers the drives; they hold where they are.
+  virtual void Disable() noexcept = 0;
+  // References the joints. Back ends with absolute feedback (the simulation) are homed from the start.
+  virtual bool Home() noexcept = 0;
+  // Clears the back end's latched fault if its cause is gone; false otherwise. The drives stay disabled.
+  virtual bool ResetFault() noexcept = 0;
+  // The joint set-point; ignored unless enabled.
   virtual void Command(const RsrJointCommand& command) noexcept = 0;
+  // Periodic work of the back end up to runtime time now_s (physics steps, pin exchange).
+  virtual void Service(double now_s) noexcept = 0;
   virtual RsrFollowerState State() const noexcept = 0;
 };
 

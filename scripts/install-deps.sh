@@ -9,6 +9,10 @@ packages=(
   libbullet-dev libbullet-extras-dev
   libopencv-dev
   python3 python3-matplotlib python3-numpy
+  cyclonedds-dev cyclonedds-tools openssl
+  linuxcnc-uspace linuxcnc-uspace-dev
+  libimgui-dev libglfw3-dev xvfb xauth libgl1-mesa-dri
+  rt-tests clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -332,6 +332,8 @@ RsrSimulation::RsrSimulation(const robot::RsrModel& model, const SimConfig& conf
   command_.time_s = 0;
   command_.q = ik.joints.actuated();
   command_.q_dot.setZero();
+  state_.enabled = true;
+  state_.homed = true;
   Measure();
 }
 
@@ -340,8 +342,35 @@ RsrSimulation::~RsrSimulation() = default;
 double RsrSimulation::ring_mass_kg() const { return bullet_->ring_mass; }
 Eigen::Vector3d RsrSimulation::ring_com_M() const { return bullet_->X_MB.translation(); }
 
+bool RsrSimulation::Enable() noexcept {
+  if (state_.fault == robot::FollowerFault::kUnstable) return false;
+  state_.enabled = true;
+  return true;
+}
+
+void RsrSimulation::Disable() noexcept {
+  state_.enabled = false;
+  command_.time_s = time_s_;
+  command_.q = state_.q;
+  command_.q_dot.setZero();
+}
+
+bool RsrSimulation::ResetFault() noexcept {
+  if (state_.fault == robot::FollowerFault::kUnstable) return false;
+  state_.fault = robot::FollowerFault::kNone;
+  return true;
+}
+
 void RsrSimulation::Command(const robot::RsrJointCommand& command) noexcept {
+  if (!state_.enabled) return;
   if (command.q.allFinite() && command.q_dot.allFinite() && std::isfinite(command.time_s)) command_ = command;
+}
+
+void RsrSimulation::Service(double now_s) noexcept {
+  // Steps whose end is due by now_s (half a step of tolerance against rounding).
+  while (time_s_ + 0.5 * step_s_ <= now_s) {
+    if (Step() == SimStepStatus::kUnstable) return;
+  }
 }
 
 robot::RsrFollowerState RsrSimulation::State() const noexcept { return state_; }
@@ -382,7 +411,12 @@ SimStepStatus RsrSimulation::Step() noexcept {
   if (!state_.X_FM.matrix().allFinite() || !state_.q.allFinite() || diagnostics_.max_loop_error_m > 1e-3) {
     status = SimStepStatus::kUnstable;
   }
-  state_.fault = status != SimStepStatus::kOk;
+  switch (status) {
+    case SimStepStatus::kOk: state_.fault = robot::FollowerFault::kNone; break;
+    case SimStepStatus::kActuatorLimit: state_.fault = robot::FollowerFault::kDrive; break;
+    case SimStepStatus::kJointLimit: state_.fault = robot::FollowerFault::kJointLimit; break;
+    case SimStepStatus::kUnstable: state_.fault = robot::FollowerFault::kUnstable; break;
+  }
   return status;
 }
 

@@ -55,9 +55,16 @@ class RsrSimulation final : public robot::Follower {
   RsrSimulation(const RsrSimulation&) = delete;
   RsrSimulation& operator=(const RsrSimulation&) = delete;
 
-  // robot::Follower. The command is extrapolated with its velocity to the end of each step (at most
-  // config.physics.command_extrapolation_max_s past its time stamp).
+  // robot::Follower. The simulation starts enabled and homed at its start pose (the offline studies command it
+  // directly); disabled, its drives hold the joints where they are. The command is extrapolated with its velocity
+  // to the end of each step (at most config.physics.command_extrapolation_max_s past its time stamp). Service()
+  // steps the physics until the simulated time reaches now_s. The fault code is the last step's condition.
+  bool Enable() noexcept override;
+  void Disable() noexcept override;
+  bool Home() noexcept override { return true; }
+  bool ResetFault() noexcept override;
   void Command(const robot::RsrJointCommand& command) noexcept override;
+  void Service(double now_s) noexcept override;
   robot::RsrFollowerState State() const noexcept override;
 
   // Advances the physics by one step of 1/step_hz.

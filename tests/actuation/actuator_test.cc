@@ -175,7 +175,12 @@ TEST(ActuatorTest, WholeTenKilohertzTickAllocatesNothing) {
 
 class RecordingFollower : public robot::Follower {
  public:
+  bool Enable() noexcept override { return true; }
+  void Disable() noexcept override {}
+  bool Home() noexcept override { return true; }
+  bool ResetFault() noexcept override { return true; }
   void Command(const robot::RsrJointCommand& c) noexcept override { last = c; ++count; }
+  void Service(double) noexcept override {}
   robot::RsrFollowerState State() const noexcept override { return {}; }
   robot::RsrJointCommand last;
   int count = 0;

@@ -159,7 +159,7 @@ TEST(RsrSimulationTest, ReportsTheActuatorLimitWhenTheLoadExceedsTheDrives) {
     limit_seen = limit_seen || sim.Step() == SimStepStatus::kActuatorLimit;
   }
   EXPECT_TRUE(limit_seen);
-  EXPECT_TRUE(sim.State().fault);
+  EXPECT_EQ(sim.State().fault, robot::FollowerFault::kDrive);
   EXPECT_TRUE(sim.diagnostics().linear_saturated[0] && sim.diagnostics().linear_saturated[1]);
   EXPECT_NEAR(std::abs(sim.State().effort[robot::StrokeIndex(0)]), Data().config.actuators.linear_force_max_n, 1e-6);
 }
@@ -189,7 +189,7 @@ TEST(RsrSimulationTest, FollowerCallsDoNotAllocate) {
   for (int k = 0; k < 100; ++k) {
     follower.Command(cmd);
     const robot::RsrFollowerState s = follower.State();
-    ASSERT_FALSE(s.fault);
+    ASSERT_FALSE(s.faulted());
   }
   EXPECT_EQ(counter.count(), 0u);
 }

@@ -1,0 +1,35 @@
+#pragma once
+// The communication channel of Fig. 2, as each unit sees it. The leader and follower units talk only through these
+// two interfaces, so the same units run in one process (teleop::InProcessLink, lock-free snapshots and queues) or
+// in two processes on two machines (link::DdsLeaderLink / link::DdsFollowerLink over Cyclone DDS).
+//
+// Real-time calls (noexcept, allocation-free, lock-free, never block): everything the loops call each tick.
+// "Latest" semantics for set-points and status (a newer value replaces an unread older one, as best-effort
+// keep-last-1 does on the wire); commands are queued and never lost.
+
+#include "src/teleop/link_messages.h"
+
+namespace robossis::teleop {
+
+class LeaderLink {
+ public:
+  virtual ~LeaderLink() = default;
+  virtual void SendSetPoint(const SetPointMessage& message) noexcept = 0;
+  // The newest follower status not yet taken; false if none arrived since the last call.
+  virtual bool TakeFollowerStatus(FollowerStatusMessage& message) noexcept = 0;
+  // The leader's own commands (E-stop on a device failure, enable on presence). False if the link refused it.
+  virtual bool SendCommand(const StateCommandMessage& message) noexcept = 0;
+};
+
+class FollowerLink {
+ public:
+  virtual ~FollowerLink() = default;
+  // The newest set-point not yet taken; false if none arrived since the last call. `arrival_ns` is the follower's
+  // clock at arrival (ns), from which the follower judges freshness.
+  virtual bool TakeSetPoint(SetPointMessage& message, std::int64_t& arrival_ns) noexcept = 0;
+  // The next queued command from any participant; false when none is waiting.
+  virtual bool TakeCommand(StateCommandMessage& message) noexcept = 0;
+  virtual void PublishStatus(const FollowerStatusMessage& message) noexcept = 0;
+};
+
+}  // namespace robossis::teleop

@@ -1,0 +1,87 @@
+#pragma once
+// What crosses between the leader unit and the follower unit (Fig. 2), sized and shaped to travel over a network at
+// 1 kHz: plain fixed-size records, no pointers, SI units, positions in m, orientations as unit quaternions
+// (w, x, y, z). The in-process link passes them through lock-free structures; the DDS link maps them one to one
+// onto its IDL types (src/link/).
+//
+// The split follows the paper: the leader renders the walls and runs the motion transfer, so it sends a feasible
+// RSR pose set-point with its twist; the follower validates it and runs the 10 kHz actuation (eq. 15–17).
+//
+// Time stamps are the sender's runtime clock (ns). Two machines' clocks are not the same clock: the follower judges
+// freshness by its own clock at arrival and by the sequence number, and uses the sender's stamp only to order and
+// to measure the interval between set-points.
+
+#include <array>
+#include <cstdint>
+
+namespace robossis::teleop {
+
+// The follower's operating state, as dVRK's CRTK `operating_state` names them.
+enum class OperatingState : std::uint8_t {
+  kDisabled,  // drives off
+  kHoming,    // referencing the joints
+  kReady,     // homed, drives on, holding; waits for operator presence and an enable
+  kEnabled,   // following the leader's set-points
+  kClutched,  // the operator released the clutch: the robot holds, the hand moves freely, re-anchor on re-engage
+  kFault,     // a latched fault (the reason is kept); reset to leave
+  kEStop,     // latched emergency stop; reset to leave
+};
+const char* ToString(OperatingState state);
+
+// Commands to the follower's state machine (CRTK `state_command`).
+enum class StateCommand : std::uint8_t { kEnable, kDisable, kHome, kEStop, kReset };
+const char* ToString(StateCommand command);
+
+// Why the follower unit faulted or refused a set-point.
+enum class FaultReason : std::uint8_t {
+  kNone,
+  kBackEnd,           // the follower back end reported a fault (robot::FollowerFault says which)
+  kDeviceFailure,     // the leader's device failed (stale, NaN, lost): the leader asked for a hold
+  kSetPointInvalid,   // a set-point was not finite or outside the workspace
+  kSetPointTooFast,   // a set-point broke the speed or acceleration caps
+  kLeaderLost,        // no set-point for longer than the link timeout
+  kEStop,             // an E-stop command
+};
+const char* ToString(FaultReason reason);
+
+// Set-point flags.
+inline constexpr std::uint8_t kSetPointClutched = 1u << 0;  // clutch open: hold, then re-anchor
+inline constexpr std::uint8_t kSetPointPresence = 1u << 1;  // operator presence (the sigma.7's button)
+
+// Leader → follower, every leader tick (CRTK `servo_cp` with a sequence number and a twist).
+struct SetPointMessage {
+  std::uint64_t sequence = 0;       // strictly increasing per leader session
+  std::uint64_t leader_session = 0; // a random id drawn when the leader starts: a restarted leader is a new session
+  std::int64_t stamp_ns = 0;        // leader clock at the tick's device read
+  std::array<double, 3> p_FM{};     // RSR moving-ring position in F (m)
+  std::array<double, 4> q_FM{1, 0, 0, 0};  // orientation, unit quaternion (w, x, y, z)
+  std::array<double, 6> twist_F{};  // [v (m/s); omega (rad/s)] in F
+  std::uint8_t flags = 0;           // kSetPointClutched | kSetPointPresence
+};
+
+// Any participant → follower (CRTK `state_command`).
+struct StateCommandMessage {
+  std::uint64_t sequence = 0;
+  std::int64_t stamp_ns = 0;
+  StateCommand command = StateCommand::kDisable;
+  std::uint8_t source = 0;  // 0 command line, 1 leader, 2 panel (for the log; authorisation is the link's job)
+};
+
+// Follower → leader and watchers, at >= 100 Hz (CRTK `measured_cp`, `measured_js`, `operating_state`).
+struct FollowerStatusMessage {
+  std::uint64_t sequence = 0;
+  std::int64_t stamp_ns = 0;                // follower clock
+  std::array<double, 3> p_FM{};             // measured moving-ring pose
+  std::array<double, 4> q_FM{1, 0, 0, 0};
+  std::array<double, 6> joints{};           // measured actuated joints, eq. 13 order (rad, m)
+  std::array<double, 6> effort{};           // N·m, N
+  OperatingState state = OperatingState::kDisabled;
+  FaultReason fault_reason = FaultReason::kNone;
+  std::uint8_t back_end_fault = 0;          // robot::FollowerFault
+  std::uint64_t setpoints_accepted = 0;
+  std::uint64_t setpoints_rejected = 0;
+  std::uint64_t watchdog_holds = 0;
+  std::uint64_t last_sequence = 0;          // sequence of the last accepted set-point
+};
+
+}  // namespace robossis::teleop
