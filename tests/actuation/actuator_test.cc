@@ -10,6 +10,7 @@
 #include "haptics/transfer/timed_move.h"
 #include "robot/actuation/actuator.h"
 #include "robot/actuation/pulse_recorder.h"
+#include "src/core/config.h"
 #include "src/core/units.h"
 #include "tests/support/alloc_counter.h"
 
@@ -17,7 +18,7 @@ namespace robossis::actuation {
 namespace {
 
 ActuationConfig Config() {
-  const auto dir = std::filesystem::path(std::getenv("ROBOSSIS_DATA_DIR")) / "config";
+  const auto dir = DefaultDataDir() / "config";
   return ActuationConfig::FromYaml(dir / "actuation.yaml");
 }
 

@@ -78,8 +78,9 @@ TEST(SnapshotTest, ReadersNeverSeeATornRecord) {
     }
   });
   std::uint64_t last = 0;
-  for (int k = 0; k < 100000; ++k) {
-    if (!snap.Read(out)) continue;
+  for (int reads = 0; reads < 100000;) {
+    if (!snap.Read(out)) continue;  // the writer has not published yet
+    ++reads;
     ASSERT_EQ(out.a, out.b);
     for (double x : out.payload) ASSERT_EQ(x, static_cast<double>(out.a));
     ASSERT_GE(out.a, last);  // never older than a value already seen

@@ -69,7 +69,7 @@ TEST(HapticDeviceTest, ClampsToTheDeviceLimitsKeepingTheDirection) {
 TEST(HapticDeviceTest, AFailedNonFiniteOrStaleReadZeroesTheForceAndKeepsThePose) {
   ScriptedDevice dev;
   dev.EnableForces(true);
-  dev.next.X_OH.translation() = {0.01, 0.02, 0.03};
+  dev.next.X_OH.translation() = Eigen::Vector3d(0.01, 0.02, 0.03);
   dev.next.buttons = kPresenceButton;
   ASSERT_TRUE(dev.Read(0.001).ok());
   dev.Write(Push(5, 0.1));
@@ -77,7 +77,7 @@ TEST(HapticDeviceTest, AFailedNonFiniteOrStaleReadZeroesTheForceAndKeepsThePose)
 
   // Failed read (USB timeout).
   dev.next_status = DeviceStatus::kTimeout;
-  dev.next.X_OH.translation() = {1, 1, 1};
+  dev.next.X_OH.translation() = Eigen::Vector3d(1, 1, 1);
   EXPECT_EQ(dev.Read(0.002).status, DeviceStatus::kTimeout);
   EXPECT_TRUE(dev.Write(Push(5, 0.1)).zeroed);
   EXPECT_EQ(dev.sent.f_O, Eigen::Vector3d::Zero());
@@ -91,7 +91,7 @@ TEST(HapticDeviceTest, AFailedNonFiniteOrStaleReadZeroesTheForceAndKeepsThePose)
   EXPECT_TRUE(dev.Write(Push(5, 0.1)).zeroed);
 
   // Stale: a buffered reading older than the limit.
-  dev.next.X_OH.translation() = {0.01, 0.02, 0.04};
+  dev.next.X_OH.translation() = Eigen::Vector3d(0.01, 0.02, 0.04);
   dev.age_s = 0.02;
   EXPECT_EQ(dev.Read(0.004).status, DeviceStatus::kStale);
   EXPECT_TRUE(dev.Write(Push(5, 0.1)).zeroed);
