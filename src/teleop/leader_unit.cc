@@ -72,8 +72,8 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       actuation_ratio_(transfer.rates.upsampling_ratio()),
       session_id_(session_id),
       X_goal_(X_FM_start),
-      X_sent_(X_FM_start),
-      X_sent_prev_(X_FM_start),
+      X_sent_(OnTheWire(X_FM_start)),
+      X_sent_prev_(X_sent_),
       records_(config.record_queue_capacity) {
   config.Validate();
   if (transfer_every_ < 1 ||
@@ -86,23 +86,35 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
     throw std::invalid_argument("leader: the renderer runs at " + std::to_string(1.0 / renderer.dt()) +
                                 " Hz, the leader at " + std::to_string(config.rate_hz) + " Hz");
   }
-  if (!robot::IsPoseFeasible(model, X_FM_start)) {
+  if (!FeasibleOnTheWire(X_FM_start)) {
     throw std::invalid_argument("leader: the follower's start pose is outside the workspace");
   }
   follower_.state = OperatingState::kDisabled;
 }
 
+Eigen::Isometry3d LeaderUnit::OnTheWire(const Eigen::Isometry3d& X) noexcept {
+  std::array<double, 3> p;
+  std::array<double, 4> q;
+  PoseToArrays(X, p, q);
+  return PoseFromArrays(p, q);
+}
+
+bool LeaderUnit::FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept {
+  return robot::IsPoseFeasible(model_, OnTheWire(X));
+}
+
 Eigen::Isometry3d LeaderUnit::FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept {
   stopped = false;
-  if (robot::IsPoseFeasible(model_, goal)) return goal;
+  if (FeasibleOnTheWire(goal)) return OnTheWire(goal);
   stopped = true;
-  // X_sent_ is feasible; the boundary lies between it and the goal.
+  // X_sent_ is feasible as sent; the boundary lies between it and the goal. Every probe is judged as the follower
+  // will receive it (quaternion round trip), so a pose exactly on the boundary is not pushed out by rounding.
   double lo = 0, hi = 1;
   for (int k = 0; k < config_.boundary_bisection_steps; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (robot::IsPoseFeasible(model_, Interpolate(X_sent_, goal, mid)) ? lo : hi) = mid;
+    (FeasibleOnTheWire(Interpolate(X_sent_, goal, mid)) ? lo : hi) = mid;
   }
-  return Interpolate(X_sent_, goal, lo);
+  return OnTheWire(Interpolate(X_sent_, goal, lo));
 }
 
 void LeaderUnit::SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept {
@@ -213,7 +225,10 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     Eigen::Isometry3d X = X_sent_;
     if (started_) {
       if (proxy_ != nullptr) {
-        X = proxy_->proxy_pose();  // the god-object: always on or inside the true boundary
+        // The god-object: always on or inside the true boundary (toward it from the last set-point if the
+        // rounding of the message would put it a hair outside).
+        bool rounded = false;
+        X = FeasibleToward(proxy_->proxy_pose(), rounded);
         stopped = (X.translation() - X_goal_.translation()).norm() > 1e-9 ||
                   RotationAngleBetween(X.linear(), X_goal_.linear()) > 1e-9;
       } else {
@@ -224,7 +239,7 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
       ++counters_.nonfinite_outputs;
       X = X_sent_;
     }
-    if (!robot::IsPoseFeasible(model_, X)) {  // the final check: the exact IK
+    if (!FeasibleOnTheWire(X)) {  // the final check: the exact IK, on the pose as it is sent
       ++counters_.ik_rejected;
       X = X_sent_;
     }

@@ -115,6 +115,10 @@ class LeaderUnit final : public rt::PeriodicTask {
   int transfer_every() const noexcept { return transfer_every_; }
 
  private:
+  // The pose as the follower receives it (position + quaternion).
+  static Eigen::Isometry3d OnTheWire(const Eigen::Isometry3d& X) noexcept;
+  bool FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept;
+  // The goal if feasible, else the boundary point on the segment from the last set-point toward it.
   Eigen::Isometry3d FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept;
   void SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept;
 
