@@ -33,6 +33,7 @@ LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
   c.device.max_gripper_force_n = device.NumberInRange("max_gripper_force_n", 0.0, 100.0);
   c.device.stale_after_s = device.PositiveNumber("stale_after_s");
   c.boundary_bisection_steps = root.Child("setpoint").Integer("boundary_bisection_steps");
+  c.guard.Validate();
   const int capacity = root.Child("recorder").Integer("queue_capacity");
   if (capacity < 16) root.Fail("recorder.queue_capacity", "expected an integer >= 16");
   c.record_queue_capacity = static_cast<std::size_t>(capacity);

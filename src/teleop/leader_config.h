@@ -6,13 +6,15 @@
 
 #include "haptics/device/device_factory.h"
 #include "haptics/device/haptic_device.h"
+#include "robot/feasible_motion.h"
 
 namespace robossis::teleop {
 
 struct LeaderConfig {
   double rate_hz = 1000;                     // the haptic loop
   haptics::DeviceLimits device;              // the device's own limits, applied by HapticDevice
-  int boundary_bisection_steps = 14;         // stopping the set-point at the boundary
+  int boundary_bisection_steps = 14;         // the wire-rounding fallback: bisection toward the last set-point
+  robot::FeasibleMotionConfig guard;         // the feasible-motion guard's tuning (its defaults)
   std::size_t record_queue_capacity = 16384; // leader records waiting for the flight recorder
   haptics::DeviceScriptOptions sim_script;   // the `sim` device's hand
 

@@ -65,6 +65,7 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       renderer_(renderer),
       proxy_(dynamic_cast<const haptics::ProxyRenderer*>(&renderer)),
       link_(link),
+      guard_(model, config.guard),
       transfer_(transfer, X_FM_start),
       R_FO_(transfer.mapping.R_FO),
       translation_scale_(transfer.mapping.translation_scale),
@@ -232,7 +233,12 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
         stopped = (X.translation() - X_goal_.translation()).norm() > 1e-9 ||
                   RotationAngleBetween(X.linear(), X_goal_.linear()) > 1e-9;
       } else {
-        X = FeasibleToward(X_goal_, stopped);
+        // The feasible-motion guard: the constrained least-squares step toward the goal (robot/feasible_motion.h),
+        // sliding along the active limits; the bisection only if the message's rounding puts it a hair outside.
+        const robot::FeasibleMotionResult g = guard_.Step(X_sent_, X_goal_);
+        stopped = g.status != robot::FeasibleMotionStatus::kTracked;
+        bool rounded = false;
+        X = FeasibleToward(g.X_FM, rounded);
       }
     }
     if (!X.matrix().allFinite()) {

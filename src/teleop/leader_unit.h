@@ -8,9 +8,10 @@
 //   (every transfer period) the set-point made feasible → LeaderLink::SendSetPoint.
 //
 // The set-point sent is always feasible, checked with the exact IK: where the hand pushes through a wall it stops
-// at the boundary, at the proxy's pose for the proxy methods (the god-object is always feasible), else at the
-// boundary point on the segment from the last pose sent toward the pose the transfer asks for (bisection on the
-// exact IK). A pose that still fails the IK is never sent: the last one is repeated.
+// at the boundary, at the proxy's pose for the proxy methods (the god-object is always feasible), else where the
+// feasible-motion guard (robot/feasible_motion.h: a constrained least-squares step with every limit linearised)
+// takes it from the last set-point toward the pose the transfer asks for. Every pose is judged as the follower
+// receives it (position + quaternion); a pose that still fails the IK is never sent: the last one is repeated.
 //
 // Operator presence (the device's button) gates everything: without it the clutch is open (the transfer ignores
 // the hand, the follower is asked to hold) and no force is displayed; with it back, the mapping re-anchors, so
@@ -31,6 +32,7 @@
 #include "haptics/rendering/haptic_types.h"
 #include "haptics/rendering/proxy_renderer.h"
 #include "haptics/transfer/motion_transfer.h"
+#include "robot/feasible_motion.h"
 #include "robot/rsr_model.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/snapshot.h"
@@ -128,6 +130,7 @@ class LeaderUnit final : public rt::PeriodicTask {
   haptics::HapticRenderer& renderer_;
   const haptics::ProxyRenderer* proxy_;  // set if the method keeps a feasible proxy
   LeaderLink& link_;
+  robot::FeasibleMotionGuard guard_;
   transfer::MotionTransfer transfer_;
   Eigen::Matrix3d R_FO_;
   double translation_scale_;
