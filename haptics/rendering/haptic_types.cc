@@ -84,6 +84,24 @@ HapticStatus HapticRenderer::Tick(const HapticInput& input, HapticOutput& output
   // Axes of O and F are aligned (HcToRsrMap), so velocities only scale.
   state.v_F = map_.scale * input.v_O;
   state.w_F = input.w_O;
+  return RenderState(state, input, output);
+}
+
+HapticStatus HapticRenderer::TickRsr(const RsrSideState& state, const HapticInput& input,
+                                     HapticOutput& output) noexcept {
+  output.f_O.setZero();
+  output.tau_O.setZero();
+  output.saturated = false;
+  if (!state.X_FM.matrix().allFinite() || !state.v_F.allFinite() || !state.w_F.allFinite() ||
+      !input.v_O.allFinite() || !input.w_O.allFinite()) {
+    output.status = HapticStatus::kFault;
+    return output.status;
+  }
+  return RenderState(state, input, output);
+}
+
+HapticStatus HapticRenderer::RenderState(const RsrSideState& state, const HapticInput& input,
+                                         HapticOutput& output) noexcept {
   Eigen::Vector3d f_F, tau_F;
   HapticStatus status = Render(state, f_F, tau_F);
   if (!f_F.allFinite() || !tau_F.allFinite()) {

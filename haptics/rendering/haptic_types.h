@@ -85,6 +85,11 @@ class HapticRenderer {
   // One haptic tick. Maps the HC state to RSR space, renders, saturates (keeping the direction) and returns the
   // status. A non-finite input or result gives zero force and kFault. Allocation-free, lock-free, noexcept.
   HapticStatus Tick(const HapticInput& input, HapticOutput& output) noexcept;
+  // One haptic tick at an RSR-side state given directly (the teleoperation leader maps the hand once, with the
+  // motion transfer of eq. 10–12, and renders the walls at the pose the follower will be sent). `input` is the HC
+  // sample the state came from: its velocities drive the passivity observer. The wrench is returned in F (the
+  // caller rotates it into O). Same checks, saturation and status as Tick(). Allocation-free, noexcept.
+  HapticStatus TickRsr(const RsrSideState& state, const HapticInput& input, HapticOutput& output) noexcept;
 
   // Forget the history (filters, proxy, passivity observer) and start from the HC pose X_OH. Allocation-free.
   void Reset(const Eigen::Isometry3d& X_OH) noexcept;
@@ -112,6 +117,8 @@ class HapticRenderer {
   // The method proper: the wrench in RSR space (F), before the common saturation.
   virtual HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept = 0;
   virtual void ResetMethod(const Eigen::Isometry3d& X_OH) noexcept = 0;
+  // Render, check, saturate and apply the passivity controller (the common part of Tick and TickRsr).
+  HapticStatus RenderState(const RsrSideState& state, const HapticInput& input, HapticOutput& output) noexcept;
 
   const robot::RsrModel& model_;
   HcToRsrMap map_;

@@ -47,6 +47,7 @@ const char* ToString(FaultReason reason);
 // Set-point flags.
 inline constexpr std::uint8_t kSetPointClutched = 1u << 0;  // clutch open: hold, then re-anchor
 inline constexpr std::uint8_t kSetPointPresence = 1u << 1;  // operator presence (the sigma.7's button)
+inline constexpr std::uint8_t kSetPointDeviceFault = 1u << 2;  // the leader's device failed: hold (FaultReason::kDeviceFailure)
 
 // Leader → follower, every leader tick (CRTK `servo_cp` with a sequence number and a twist).
 struct SetPointMessage {

@@ -1,0 +1,100 @@
+#pragma once
+// Periodic loops: one thread per unit on absolute deadlines (clock_nanosleep on CLOCK_MONOTONIC, TIMER_ABSTIME, so
+// a late tick does not shift the ones after it), SCHED_FIFO and mlockall where the process is permitted (a warning
+// names what was refused, and the loop runs anyway at normal priority), overruns and period jitter counted.
+//
+// The same tasks run either on threads in real time (RunRealTime, on a MonotonicClock) or stepped
+// deterministically on a SimulatedClock as fast as the machine allows (RunSimulated): each task is ticked at its own
+// period, tasks due at the same instant in the order given. The non-real-time side runs in the calling thread
+// (`background`, every background_period_s), and reaches the loops only through src/core/rt structures.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "src/core/rt/clock.h"
+#include "src/core/rt/loop_stats.h"
+
+namespace robossis::rt {
+
+// What a loop runs. Tick() is real-time code: noexcept, allocation-free, lock-free, prints nothing.
+class PeriodicTask {
+ public:
+  virtual ~PeriodicTask() = default;
+  // now_ns: the runtime clock at the tick's start (MonotonicClock or SimulatedClock time, ns since its epoch).
+  virtual void Tick(std::int64_t now_ns) noexcept = 0;
+};
+
+struct LoopOptions {
+  std::string name = "loop";
+  std::int64_t period_ns = 1'000'000;
+  int fifo_priority = 80;      // SCHED_FIFO priority where permitted [assumed]: below the kernel's IRQ threads (50)
+                               // is wrong for a servo loop; 80 leaves room above for a watchdog
+  bool try_realtime = true;    // attempt SCHED_FIFO
+};
+
+// One thread ticking one task on absolute deadlines.
+class PeriodicLoop {
+ public:
+  PeriodicLoop(const MonotonicClock& clock, PeriodicTask& task, const LoopOptions& options);
+  ~PeriodicLoop();
+  PeriodicLoop(const PeriodicLoop&) = delete;
+  PeriodicLoop& operator=(const PeriodicLoop&) = delete;
+
+  // Starts the thread; the first deadline is start_ns on the clock (ns since its epoch). Returns a warning (empty if
+  // none): SCHED_FIFO refused.
+  std::string Start(std::int64_t start_ns);
+  void Stop() noexcept;  // requests the stop and joins
+  // Safe to read once stopped; ticks() and overruns() at any time.
+  const LoopStats& stats() const noexcept { return stats_; }
+  std::uint64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
+  std::uint64_t overruns() const noexcept { return overruns_.load(std::memory_order_relaxed); }
+  const LoopOptions& options() const noexcept { return options_; }
+
+ private:
+  void Run(std::int64_t start_ns) noexcept;
+  const MonotonicClock& clock_;
+  PeriodicTask& task_;
+  LoopOptions options_;
+  LoopStats stats_;
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> ticks_{0};
+  std::atomic<std::uint64_t> overruns_{0};
+  std::thread thread_;
+};
+
+// Locks the process's memory (mlockall, current and future pages) so a tick never waits for a page fault. Returns
+// a warning (empty if it worked).
+std::string LockMemory();
+
+struct ScheduledTask {
+  PeriodicTask* task = nullptr;
+  LoopOptions options;
+};
+
+struct RunResult {
+  std::vector<LoopStats> stats;        // one per task, in the order given
+  std::vector<std::string> warnings;   // what real-time setup was refused
+  double elapsed_s = 0;                // run time on the run's clock
+  bool stopped_early = false;          // `background` asked to stop before the duration
+};
+
+// `background` is called from the calling thread about every background_period_s of the run's clock (and once at
+// the end); returning false stops the run early. It may allocate and print; it must not touch the tasks except
+// through rt structures.
+using BackgroundWork = std::function<bool(double now_s)>;
+
+// Real time: a thread per task, started together, for duration_s of wall-clock time.
+RunResult RunRealTime(const MonotonicClock& clock, const std::vector<ScheduledTask>& tasks, double duration_s,
+                      const BackgroundWork& background, double background_period_s = 0.01, bool lock_memory = true);
+
+// Simulated time: ticks every task at its period on `clock` (advanced here), from the clock's current time for
+// duration_s. Deterministic.
+RunResult RunSimulated(SimulatedClock& clock, const std::vector<ScheduledTask>& tasks, double duration_s,
+                       const BackgroundWork& background, double background_period_s = 0.01);
+
+}  // namespace robossis::rt

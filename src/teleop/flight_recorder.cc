@@ -1,0 +1,72 @@
+#include "src/teleop/flight_recorder.h"
+
+#include <chrono>
+#include <exception>
+
+namespace robossis::teleop {
+
+StreamSpec LeaderStreamSpec() {
+  using R = LeaderTickRecord;
+  StreamSpec s;
+  s.id = kLeaderStream;
+  s.name = "leader";
+  s.record_size = sizeof(R);
+  s.fields = {
+      ROBOSSIS_LOG_FIELD(R, t_ns, "ns"),          ROBOSSIS_LOG_FIELD(R, sample_ns, "ns"),
+      ROBOSSIS_LOG_FIELD(R, tick, ""),            ROBOSSIS_LOG_FIELD(R, p_OH, "m"),
+      ROBOSSIS_LOG_FIELD(R, q_OH, ""),            ROBOSSIS_LOG_FIELD(R, v_O, "m/s"),
+      ROBOSSIS_LOG_FIELD(R, w_O, "rad/s"),        ROBOSSIS_LOG_FIELD(R, f_O, "N"),
+      ROBOSSIS_LOG_FIELD(R, tau_O, "N.m"),        ROBOSSIS_LOG_FIELD(R, p_goal, "m"),
+      ROBOSSIS_LOG_FIELD(R, q_goal, ""),          ROBOSSIS_LOG_FIELD(R, p_sent, "m"),
+      ROBOSSIS_LOG_FIELD(R, q_sent, ""),          ROBOSSIS_LOG_FIELD(R, p_follower, "m"),
+      ROBOSSIS_LOG_FIELD(R, q_follower, ""),      ROBOSSIS_LOG_FIELD(R, scale_linear, ""),
+      ROBOSSIS_LOG_FIELD(R, scale_angular, ""),   ROBOSSIS_LOG_FIELD(R, hc_speed_m_s, "m/s"),
+      ROBOSSIS_LOG_FIELD(R, sequence, ""),        ROBOSSIS_LOG_FIELD(R, buttons, ""),
+      ROBOSSIS_LOG_FIELD(R, device_status, ""),   ROBOSSIS_LOG_FIELD(R, haptic_status, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_state, ""),    ROBOSSIS_LOG_FIELD(R, follower_state, ""),
+      ROBOSSIS_LOG_FIELD(R, flags, ""),           ROBOSSIS_LOG_FIELD(R, sent_this_tick, ""),
+      ROBOSSIS_LOG_FIELD(R, stopped_at_boundary, ""), ROBOSSIS_LOG_FIELD(R, force_zeroed, ""),
+  };
+  return s;
+}
+
+FlightRecorder::FlightRecorder(SessionLogWriter& log, Drain drain, double flush_period_s)
+    : log_(log), drain_(std::move(drain)), flush_period_s_(flush_period_s) {}
+
+FlightRecorder::~FlightRecorder() { Stop(); }
+
+void FlightRecorder::Start() {
+  stop_.store(false);
+  thread_ = std::thread([this] { Run(); });
+}
+
+void FlightRecorder::Run() {
+  const auto period = std::chrono::duration<double>(flush_period_s_);
+  auto next = std::chrono::steady_clock::now();
+  try {
+    while (!stop_.load(std::memory_order_relaxed)) {
+      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+      std::this_thread::sleep_until(next);
+      drain_(log_);
+      log_.Flush();
+    }
+  } catch (const std::exception& e) {
+    error_ = e.what();
+  }
+}
+
+std::string FlightRecorder::Stop() {
+  if (thread_.joinable()) {
+    stop_.store(true);
+    thread_.join();
+    try {
+      drain_(log_);
+      log_.Flush();
+    } catch (const std::exception& e) {
+      if (error_.empty()) error_ = e.what();
+    }
+  }
+  return error_;
+}
+
+}  // namespace robossis::teleop

@@ -1,0 +1,52 @@
+#include "src/teleop/leader_config.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "src/core/config.h"
+#include "src/core/units.h"
+
+namespace robossis::teleop {
+
+void LeaderConfig::Validate() const {
+  if (!(rate_hz >= 100 && rate_hz <= 10000)) {
+    throw std::invalid_argument("rate_hz: expected 100–10000 Hz, got " + std::to_string(rate_hz));
+  }
+  if (!(device.max_force_n > 0) || !(device.max_torque_nm > 0) || !(device.max_gripper_force_n >= 0) ||
+      !(device.stale_after_s > 0)) {
+    throw std::invalid_argument("device: limits and stale_after_s must be positive");
+  }
+  if (boundary_bisection_steps < 1 || boundary_bisection_steps > 40) {
+    throw std::invalid_argument("setpoint.boundary_bisection_steps: expected 1–40");
+  }
+  if (record_queue_capacity < 16) throw std::invalid_argument("recorder.queue_capacity: expected at least 16");
+}
+
+LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
+  const ConfigNode root = ConfigNode::Load(file);
+  LeaderConfig c;
+  c.rate_hz = root.PositiveNumber("rate_hz");
+  const ConfigNode device = root.Child("device");
+  c.device.max_force_n = device.PositiveNumber("max_force_n");
+  c.device.max_torque_nm = device.PositiveNumber("max_torque_nm");
+  c.device.max_gripper_force_n = device.NumberInRange("max_gripper_force_n", 0.0, 100.0);
+  c.device.stale_after_s = device.PositiveNumber("stale_after_s");
+  c.boundary_bisection_steps = root.Child("setpoint").Integer("boundary_bisection_steps");
+  c.guard.Validate();
+  const int capacity = root.Child("recorder").Integer("queue_capacity");
+  if (capacity < 16) root.Fail("recorder.queue_capacity", "expected an integer >= 16");
+  c.record_queue_capacity = static_cast<std::size_t>(capacity);
+  const ConfigNode sim = root.Child("sim_script");
+  c.sim_script.sim_radius_m = MmToM(sim.NumberInRange("radius_mm", 0.0, 200.0));
+  c.sim_script.sim_frequency_hz = sim.PositiveNumber("frequency_hz");
+  c.sim_script.sim_yaw_amplitude_rad = DegToRad(sim.NumberInRange("yaw_amplitude_deg", 0.0, 90.0));
+  try {
+    c.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+  return c;
+}
+
+}  // namespace robossis::teleop

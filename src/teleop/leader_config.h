@@ -1,0 +1,27 @@
+#pragma once
+// Configuration of the leader unit: data/config/leader.yaml. Loaded and validated once; the loop only reads it.
+
+#include <cstddef>
+#include <filesystem>
+
+#include "haptics/device/device_factory.h"
+#include "haptics/device/haptic_device.h"
+#include "robot/feasible_motion.h"
+
+namespace robossis::teleop {
+
+struct LeaderConfig {
+  double rate_hz = 1000;                     // the haptic loop
+  haptics::DeviceLimits device;              // the device's own limits, applied by HapticDevice
+  int boundary_bisection_steps = 14;         // the wire-rounding fallback: bisection toward the last set-point
+  robot::FeasibleMotionConfig guard;         // the feasible-motion guard's tuning (its defaults)
+  std::size_t record_queue_capacity = 16384; // leader records waiting for the flight recorder
+  haptics::DeviceScriptOptions sim_script;   // the `sim` device's hand
+
+  // Throws std::invalid_argument naming the field.
+  void Validate() const;
+  // Throws std::runtime_error naming the file and key.
+  static LeaderConfig FromYaml(const std::filesystem::path& file);
+};
+
+}  // namespace robossis::teleop

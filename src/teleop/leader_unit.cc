@@ -1,0 +1,295 @@
+#include "src/teleop/leader_unit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "robot/rsr_kinematics.h"
+#include "src/core/pose.h"
+
+namespace robossis::teleop {
+
+const char* ToString(LeaderState state) {
+  switch (state) {
+    case LeaderState::kWaiting: return "waiting";
+    case LeaderState::kTracking: return "tracking";
+    case LeaderState::kDeviceFault: return "device_fault";
+    case LeaderState::kEnded: return "ended";
+  }
+  return "unknown";
+}
+
+void PoseToArrays(const Eigen::Isometry3d& X, std::array<double, 3>& p, std::array<double, 4>& q) noexcept {
+  const Eigen::Quaterniond quat(X.linear());
+  for (int i = 0; i < 3; ++i) p[i] = X.translation()[i];
+  q = {quat.w(), quat.x(), quat.y(), quat.z()};
+}
+
+Eigen::Isometry3d PoseFromArrays(const std::array<double, 3>& p, const std::array<double, 4>& q) noexcept {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  X.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  return X;
+}
+
+namespace {
+
+void ToArray(const Eigen::Vector3d& v, std::array<double, 3>& a) noexcept {
+  for (int i = 0; i < 3; ++i) a[i] = v[i];
+}
+
+// The pose a fraction s of the way from A to B: position on the line, orientation on the geodesic.
+Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B, double s) noexcept {
+  Eigen::Isometry3d X = A;
+  X.translation() = (1 - s) * A.translation() + s * B.translation();
+  X.linear() = RotationFromVector(s * RotationVector(B.linear() * A.linear().transpose())) * A.linear();
+  return X;
+}
+
+// The wrench the device displays after its limits (what HapticDevice::Write sends), for the record.
+Eigen::Vector3d Limited(const Eigen::Vector3d& v, double max) noexcept {
+  const double n = v.norm();
+  return n > max ? Eigen::Vector3d(v * (max / n)) : v;
+}
+
+}  // namespace
+
+LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfig& transfer,
+                       const robot::RsrModel& model, haptics::HapticDevice& device,
+                       haptics::HapticRenderer& renderer, LeaderLink& link, const Eigen::Isometry3d& X_FM_start,
+                       std::uint64_t session_id)
+    : config_(config),
+      model_(model),
+      device_(device),
+      renderer_(renderer),
+      proxy_(dynamic_cast<const haptics::ProxyRenderer*>(&renderer)),
+      link_(link),
+      guard_(model, config.guard),
+      transfer_(transfer, X_FM_start),
+      R_FO_(transfer.mapping.R_FO),
+      translation_scale_(transfer.mapping.translation_scale),
+      transfer_every_(static_cast<int>(std::lround(config.rate_hz / transfer.rates.transfer_rate_hz))),
+      actuation_ratio_(transfer.rates.upsampling_ratio()),
+      session_id_(session_id),
+      X_goal_(X_FM_start),
+      X_sent_(OnTheWire(X_FM_start)),
+      X_sent_prev_(X_sent_),
+      records_(config.record_queue_capacity) {
+  config.Validate();
+  if (transfer_every_ < 1 ||
+      std::abs(transfer_every_ * transfer.rates.transfer_rate_hz - config.rate_hz) > 1e-6 * config.rate_hz) {
+    throw std::invalid_argument("leader: rate_hz " + std::to_string(config.rate_hz) +
+                                " must be a multiple of the transfer rate " +
+                                std::to_string(transfer.rates.transfer_rate_hz) + " Hz");
+  }
+  if (std::abs(renderer.dt() * config.rate_hz - 1.0) > 1e-9) {
+    throw std::invalid_argument("leader: the renderer runs at " + std::to_string(1.0 / renderer.dt()) +
+                                " Hz, the leader at " + std::to_string(config.rate_hz) + " Hz");
+  }
+  if (!FeasibleOnTheWire(X_FM_start)) {
+    throw std::invalid_argument("leader: the follower's start pose is outside the workspace");
+  }
+  follower_.state = OperatingState::kDisabled;
+}
+
+Eigen::Isometry3d LeaderUnit::OnTheWire(const Eigen::Isometry3d& X) noexcept {
+  std::array<double, 3> p;
+  std::array<double, 4> q;
+  PoseToArrays(X, p, q);
+  return PoseFromArrays(p, q);
+}
+
+bool LeaderUnit::FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept {
+  return robot::IsPoseFeasible(model_, OnTheWire(X));
+}
+
+Eigen::Isometry3d LeaderUnit::FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept {
+  stopped = false;
+  if (FeasibleOnTheWire(goal)) return OnTheWire(goal);
+  stopped = true;
+  // X_sent_ is feasible as sent; the boundary lies between it and the goal. Every probe is judged as the follower
+  // will receive it (quaternion round trip), so a pose exactly on the boundary is not pushed out by rounding.
+  double lo = 0, hi = 1;
+  for (int k = 0; k < config_.boundary_bisection_steps; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (FeasibleOnTheWire(Interpolate(X_sent_, goal, mid)) ? lo : hi) = mid;
+  }
+  return OnTheWire(Interpolate(X_sent_, goal, lo));
+}
+
+void LeaderUnit::SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept {
+  SetPointMessage m;
+  m.sequence = ++sequence_;
+  m.leader_session = session_id_;
+  m.stamp_ns = sample_ns;
+  PoseToArrays(X_sent_, m.p_FM, m.q_FM);
+  if (stopped) {
+    // Stopped at the boundary: the twist is the set-point's own motion, not the transfer's.
+    const double dt = transfer_every_ * renderer_.dt();
+    const Eigen::Vector3d v = (X_sent_.translation() - X_sent_prev_.translation()) / dt;
+    const Eigen::Vector3d w = RotationVector(X_sent_.linear() * X_sent_prev_.linear().transpose()) / dt;
+    for (int i = 0; i < 3; ++i) {
+      m.twist_F[i] = v[i];
+      m.twist_F[3 + i] = w[i];
+    }
+  } else {
+    for (int i = 0; i < 6; ++i) m.twist_F[i] = sp.velocity[i];
+  }
+  std::uint8_t flags = 0;
+  if (state_ == LeaderState::kTracking) flags |= kSetPointPresence;
+  else flags |= kSetPointClutched;
+  if (state_ == LeaderState::kDeviceFault) flags |= kSetPointDeviceFault;
+  m.flags = flags;
+  last_flags_ = flags;
+  link_.SendSetPoint(m);
+  ++counters_.setpoints_sent;
+}
+
+void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
+  const double now_s = 1e-9 * static_cast<double>(now_ns);
+  if (reset_requested_.exchange(false, std::memory_order_acq_rel) && state_ == LeaderState::kDeviceFault) {
+    state_ = LeaderState::kWaiting;
+  }
+  const haptics::DeviceState& s = device_.Read(now_s);
+  if (!started_ && s.ok()) {
+    // The walls' own map (used only to place a proxy or a cloud at reset) anchored where the transfer starts.
+    haptics::HcToRsrMap map;
+    map.X_OH_anchor = s.X_OH;
+    map.X_FM_anchor = X_sent_;
+    map.scale = translation_scale_;
+    renderer_.SetMap(map);
+    renderer_.Reset(s.X_OH);
+    started_ = true;
+  }
+
+  // State: a failure latches; otherwise presence decides.
+  const bool failure = !s.ok() && s.status != haptics::DeviceStatus::kEndOfScript;
+  if (failure) {
+    if (state_ != LeaderState::kDeviceFault) ++counters_.device_failures;
+    state_ = LeaderState::kDeviceFault;
+  } else if (state_ != LeaderState::kDeviceFault) {
+    if (s.status == haptics::DeviceStatus::kEndOfScript) state_ = LeaderState::kEnded;
+    else state_ = s.presence() ? LeaderState::kTracking : LeaderState::kWaiting;
+  }
+  const bool tracking = state_ == LeaderState::kTracking;
+  if (tracking != clutch_engaged_) {
+    transfer_.SetClutch(tracking);  // engaging re-anchors on the next sample: no jump after a clutch or a fault
+    clutch_engaged_ = tracking;
+  }
+
+  // Motion transfer (eq. 10–12) at its own rate: the pose the hand asks for.
+  const bool transfer_tick = counters_.ticks % static_cast<std::uint64_t>(transfer_every_) == 0;
+  if (transfer_tick) {
+    if (tracking) {
+      transfer::HcSample sample;
+      sample.time_s = s.time_s;
+      sample.p_OH = s.X_OH.translation();
+      sample.R_OH = s.X_OH.linear();
+      transfer_.PushHcSample(sample);
+    }
+    transfer_.TransferTick();
+    for (int k = 0; k < actuation_ratio_; ++k) transfer_.ActuationTick();
+    X_goal_ = transfer_.set_point().X_FM;
+  }
+
+  // Rendering at that pose, the hand's velocity mapped into F.
+  haptics::HapticOutput out;
+  if (started_) {
+    haptics::HapticInput in;
+    in.X_OH = s.X_OH;
+    in.v_O = s.v_O;
+    in.w_O = s.w_O;
+    haptics::RsrSideState rs;
+    rs.X_FM = X_goal_;
+    rs.v_F = translation_scale_ * (R_FO_ * s.v_O);
+    rs.w_F = R_FO_ * s.w_O;
+    renderer_.TickRsr(rs, in, out);
+    if (out.status == haptics::HapticStatus::kFault && s.ok()) ++counters_.nonfinite_outputs;
+  }
+  haptics::DeviceCommand command;
+  if (tracking) {
+    command.f_O = R_FO_.transpose() * out.f_O;
+    command.tau_O = R_FO_.transpose() * out.tau_O;
+  }
+  const haptics::DeviceWriteReport written = device_.Write(command);
+  const Eigen::Vector3d f_sent =
+      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.f_O, device_.limits().max_force_n);
+  const Eigen::Vector3d tau_sent =
+      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.tau_O, device_.limits().max_torque_nm);
+  counters_.max_force_n = std::max(counters_.max_force_n, f_sent.norm());
+  counters_.max_torque_nm = std::max(counters_.max_torque_nm, tau_sent.norm());
+
+  // The feasible set-point, sent at the transfer rate.
+  bool stopped = false;
+  if (transfer_tick) {
+    Eigen::Isometry3d X = X_sent_;
+    if (started_) {
+      if (proxy_ != nullptr) {
+        // The god-object: always on or inside the true boundary (toward it from the last set-point if the
+        // rounding of the message would put it a hair outside).
+        bool rounded = false;
+        X = FeasibleToward(proxy_->proxy_pose(), rounded);
+        stopped = (X.translation() - X_goal_.translation()).norm() > 1e-9 ||
+                  RotationAngleBetween(X.linear(), X_goal_.linear()) > 1e-9;
+      } else {
+        // The feasible-motion guard: the constrained least-squares step toward the goal (robot/feasible_motion.h),
+        // sliding along the active limits; the bisection only if the message's rounding puts it a hair outside.
+        const robot::FeasibleMotionResult g = guard_.Step(X_sent_, X_goal_);
+        stopped = g.status != robot::FeasibleMotionStatus::kTracked;
+        bool rounded = false;
+        X = FeasibleToward(g.X_FM, rounded);
+      }
+    }
+    if (!X.matrix().allFinite()) {
+      ++counters_.nonfinite_outputs;
+      X = X_sent_;
+    }
+    if (!FeasibleOnTheWire(X)) {  // the final check: the exact IK, on the pose as it is sent
+      ++counters_.ik_rejected;
+      X = X_sent_;
+    }
+    if (stopped) ++counters_.stopped_at_boundary;
+    X_sent_prev_ = X_sent_;
+    X_sent_ = X;
+    SendSetPoint(static_cast<std::int64_t>(std::llround(s.time_s * 1e9)), transfer_.set_point(), stopped);
+  }
+
+  FollowerStatusMessage status;
+  if (link_.TakeFollowerStatus(status)) {
+    follower_ = status;
+  }
+
+  // The record.
+  LeaderTickRecord& r = record_;
+  r.t_ns = now_ns;
+  r.sample_ns = static_cast<std::int64_t>(std::llround(s.time_s * 1e9));
+  r.tick = counters_.ticks;
+  PoseToArrays(s.X_OH, r.p_OH, r.q_OH);
+  ToArray(s.v_O, r.v_O);
+  ToArray(s.w_O, r.w_O);
+  ToArray(f_sent, r.f_O);
+  ToArray(tau_sent, r.tau_O);
+  PoseToArrays(X_goal_, r.p_goal, r.q_goal);
+  PoseToArrays(X_sent_, r.p_sent, r.q_sent);
+  r.p_follower = follower_.p_FM;
+  r.q_follower = follower_.q_FM;
+  r.scale_linear = transfer_.tick_info().scale_linear;
+  r.scale_angular = transfer_.tick_info().scale_angular;
+  r.hc_speed_m_s = transfer_.tick_info().hc_speed_m_s;
+  r.sequence = sequence_;
+  r.buttons = s.buttons;
+  r.device_status = static_cast<std::uint8_t>(s.status);
+  r.haptic_status = static_cast<std::uint8_t>(out.status);
+  r.leader_state = static_cast<std::uint8_t>(state_);
+  r.follower_state = static_cast<std::uint8_t>(follower_.state);
+  r.flags = last_flags_;
+  r.sent_this_tick = transfer_tick ? 1 : 0;
+  r.stopped_at_boundary = stopped ? 1 : 0;
+  r.force_zeroed = written.zeroed ? 1 : 0;
+  if (!records_.TryPush(r)) ++counters_.records_dropped;
+  latest_.Publish(r);
+  ++counters_.ticks;
+}
+
+}  // namespace robossis::teleop

@@ -1,0 +1,161 @@
+#pragma once
+// The leader unit of Fig. 2: the haptic side of the teleoperation, one Tick() per haptic period on its own loop.
+//
+// Each tick:
+//   device read → (every transfer period) the hand sample into the motion transfer (eq. 10–12: the one HC→RSR
+//   mapping, with the clutch, the eq. 11 scaling and the re-anchoring after a clutch) → the walls rendered at the
+//   pose that transfer produced, i.e. at the pose the follower will be sent → device write;
+//   (every transfer period) the set-point made feasible → LeaderLink::SendSetPoint.
+//
+// The set-point sent is always feasible, checked with the exact IK: where the hand pushes through a wall it stops
+// at the boundary, at the proxy's pose for the proxy methods (the god-object is always feasible), else where the
+// feasible-motion guard (robot/feasible_motion.h: a constrained least-squares step with every limit linearised)
+// takes it from the last set-point toward the pose the transfer asks for. Every pose is judged as the follower
+// receives it (position + quaternion); a pose that still fails the IK is never sent: the last one is repeated.
+//
+// Operator presence (the device's button) gates everything: without it the clutch is open (the transfer ignores
+// the hand, the follower is asked to hold) and no force is displayed; with it back, the mapping re-anchors, so
+// nothing jumps. A device failure (failed, non-finite or stale read) zeroes the force (HapticDevice does) and
+// latches the leader's fault: set-points carry kSetPointDeviceFault and no presence (the follower holds) until
+// RequestReset(). The end of a replay is not a failure: the leader holds.
+//
+// Real time: Tick() allocates nothing, locks nothing, prints and throws nothing. Records go to the flight recorder
+// through an SpscQueue (a full queue drops and counts), the latest one to a Snapshot for watchers.
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "haptics/device/haptic_device.h"
+#include "haptics/rendering/haptic_types.h"
+#include "haptics/rendering/proxy_renderer.h"
+#include "haptics/transfer/motion_transfer.h"
+#include "robot/feasible_motion.h"
+#include "robot/rsr_model.h"
+#include "src/core/rt/periodic_loop.h"
+#include "src/core/rt/snapshot.h"
+#include "src/core/rt/spsc_queue.h"
+#include "src/teleop/leader_config.h"
+#include "src/teleop/link.h"
+
+namespace robossis::teleop {
+
+enum class LeaderState : std::uint8_t {
+  kWaiting,      // no operator presence: clutch open, no force, the follower holds
+  kTracking,     // presence: rendering and sending set-points
+  kDeviceFault,  // latched after a device failure until RequestReset()
+  kEnded,        // the replay is over: the leader holds
+};
+const char* ToString(LeaderState state);
+
+// Everything one leader tick saw and did (SI; poses as position + unit quaternion w, x, y, z).
+struct LeaderTickRecord {
+  std::int64_t t_ns = 0;               // tick start (runtime clock)
+  std::int64_t sample_ns = 0;          // the device reading's own time
+  std::uint64_t tick = 0;
+  std::array<double, 3> p_OH{};        // hand
+  std::array<double, 4> q_OH{1, 0, 0, 0};
+  std::array<double, 3> v_O{};
+  std::array<double, 3> w_O{};
+  std::array<double, 3> f_O{};         // force sent to the device (after the limits; zero when zeroed)
+  std::array<double, 3> tau_O{};
+  std::array<double, 3> p_goal{};      // the pose the motion transfer asks for (where the walls are rendered)
+  std::array<double, 4> q_goal{1, 0, 0, 0};
+  std::array<double, 3> p_sent{};      // the feasible set-point (last one sent)
+  std::array<double, 4> q_sent{1, 0, 0, 0};
+  std::array<double, 3> p_follower{};  // the follower's last measured pose
+  std::array<double, 4> q_follower{1, 0, 0, 0};
+  double scale_linear = 1;             // eq. 11
+  double scale_angular = 1;
+  double hc_speed_m_s = 0;
+  std::uint64_t sequence = 0;          // of the last set-point sent
+  std::uint32_t buttons = 0;
+  std::uint8_t device_status = 0;      // haptics::DeviceStatus
+  std::uint8_t haptic_status = 0;      // haptics::HapticStatus
+  std::uint8_t leader_state = 0;       // LeaderState
+  std::uint8_t follower_state = 0;     // OperatingState (last status seen)
+  std::uint8_t flags = 0;              // of the last set-point sent
+  std::uint8_t sent_this_tick = 0;     // a set-point went out this tick
+  std::uint8_t stopped_at_boundary = 0;  // the set-point was stopped short of the goal
+  std::uint8_t force_zeroed = 0;       // the device write sent zero (no presence, failure, forces off)
+};
+
+struct LeaderCounters {
+  std::uint64_t ticks = 0;
+  std::uint64_t setpoints_sent = 0;
+  std::uint64_t stopped_at_boundary = 0;  // set-points stopped short of the goal
+  std::uint64_t ik_rejected = 0;          // a candidate failed the final IK check: the last set-point was repeated
+  std::uint64_t device_failures = 0;      // transitions into kDeviceFault
+  std::uint64_t records_dropped = 0;      // the flight recorder's queue was full
+  std::uint64_t nonfinite_outputs = 0;    // a non-finite force or set-point was produced (and replaced)
+  double max_force_n = 0;                 // largest |f| sent to the device
+  double max_torque_nm = 0;
+};
+
+class LeaderUnit final : public rt::PeriodicTask {
+ public:
+  // `device`, `renderer`, `model` and `link` must outlive the unit. The renderer's rate must be the leader's. The
+  // transfer's rate must divide the leader's (the haptic loop may run faster than the 1 kHz that crosses the
+  // link). X_FM_start: the follower's pose at the start (feasible). Throws std::invalid_argument.
+  LeaderUnit(const LeaderConfig& config, const transfer::TransferConfig& transfer, const robot::RsrModel& model,
+             haptics::HapticDevice& device, haptics::HapticRenderer& renderer, LeaderLink& link,
+             const Eigen::Isometry3d& X_FM_start, std::uint64_t session_id);
+
+  void Tick(std::int64_t now_ns) noexcept override;
+
+  // Any thread: clears a latched device fault at the next tick (the mapping re-anchors).
+  void RequestReset() noexcept { reset_requested_.store(true, std::memory_order_release); }
+
+  // The flight recorder's consumer end, and the latest record for watchers (any thread).
+  rt::SpscQueue<LeaderTickRecord>& records() noexcept { return records_; }
+  const rt::Snapshot<LeaderTickRecord>& latest() const noexcept { return latest_; }
+  // Read from the loop's thread, or once the loop stopped.
+  const LeaderCounters& counters() const noexcept { return counters_; }
+  LeaderState state() const noexcept { return state_; }
+  int transfer_every() const noexcept { return transfer_every_; }
+
+ private:
+  // The pose as the follower receives it (position + quaternion).
+  static Eigen::Isometry3d OnTheWire(const Eigen::Isometry3d& X) noexcept;
+  bool FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept;
+  // The goal if feasible, else the boundary point on the segment from the last set-point toward it.
+  Eigen::Isometry3d FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept;
+  void SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept;
+
+  LeaderConfig config_;
+  const robot::RsrModel& model_;
+  haptics::HapticDevice& device_;
+  haptics::HapticRenderer& renderer_;
+  const haptics::ProxyRenderer* proxy_;  // set if the method keeps a feasible proxy
+  LeaderLink& link_;
+  robot::FeasibleMotionGuard guard_;
+  transfer::MotionTransfer transfer_;
+  Eigen::Matrix3d R_FO_;
+  double translation_scale_;
+  int transfer_every_;
+  int actuation_ratio_;
+  std::uint64_t session_id_;
+
+  LeaderState state_ = LeaderState::kWaiting;
+  bool started_ = false;
+  bool clutch_engaged_ = false;
+  std::atomic<bool> reset_requested_{false};
+  Eigen::Isometry3d X_goal_;
+  Eigen::Isometry3d X_sent_;
+  Eigen::Isometry3d X_sent_prev_;
+  std::uint64_t sequence_ = 0;
+  std::uint8_t last_flags_ = 0;
+  FollowerStatusMessage follower_;  // the last status the follower sent
+  LeaderCounters counters_;
+  LeaderTickRecord record_;
+  rt::SpscQueue<LeaderTickRecord> records_;
+  rt::Snapshot<LeaderTickRecord> latest_;
+};
+
+// Pose ↔ message arrays (position m, quaternion w, x, y, z).
+void PoseToArrays(const Eigen::Isometry3d& X, std::array<double, 3>& p, std::array<double, 4>& q) noexcept;
+Eigen::Isometry3d PoseFromArrays(const std::array<double, 3>& p, const std::array<double, 4>& q) noexcept;
+
+}  // namespace robossis::teleop

@@ -1,0 +1,152 @@
+// The flight recorder's session log: records come back byte for byte with a header that describes them, a log cut
+// short (a crash mid-write) keeps everything before the cut, a killed writer process leaves a readable log, and a
+// log whose layout differs from this program's is refused with the field named.
+
+#include <signal.h>
+#include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "src/core/rt/spsc_queue.h"
+#include "src/teleop/flight_recorder.h"
+
+namespace robossis::teleop {
+namespace {
+
+std::filesystem::path TempLog(const std::string& name) { return std::filesystem::temp_directory_path() / name; }
+
+LeaderTickRecord Record(std::uint64_t k) {
+  LeaderTickRecord r;
+  r.tick = k;
+  r.t_ns = static_cast<std::int64_t>(k) * 1'000'000;
+  r.p_OH = {0.001 * k, -0.5, 0.25};
+  r.f_O = {1.5, 0, -2};
+  r.leader_state = 1;
+  return r;
+}
+
+TEST(FlightRecorderTest, RecordsComeBackWithASelfDescribingHeader) {
+  const auto file = TempLog("robossis_fr_roundtrip.rlog");
+  {
+    SessionLogWriter log(file, {{"method", "proxy"}, {"rate_hz", 1000}}, {LeaderStreamSpec()});
+    rt::SpscQueue<LeaderTickRecord> queue(64);
+    FlightRecorder recorder(log, [&](SessionLogWriter& w) {
+      LeaderTickRecord r;
+      while (queue.TryPop(r)) w.Append(kLeaderStream, &r);
+    });
+    recorder.Start();
+    for (std::uint64_t k = 0; k < 500; ++k) {
+      while (!queue.TryPush(Record(k))) std::this_thread::yield();
+    }
+    EXPECT_EQ(recorder.Stop(), "");
+    EXPECT_EQ(log.frames(), 500u);
+  }
+  const SessionLog log = ReadSessionLog(file);
+  EXPECT_EQ(log.version, 1);
+  EXPECT_EQ(log.meta.at("method"), "proxy");
+  EXPECT_FALSE(log.truncated);
+  const StreamSpec* s = log.Find("leader");
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->record_size, sizeof(LeaderTickRecord));
+  // The header alone locates a field: p_OH[0] of record 7.
+  const auto field = std::find_if(s->fields.begin(), s->fields.end(), [](const FieldSpec& f) { return f.name == "p_OH"; });
+  ASSERT_NE(field, s->fields.end());
+  EXPECT_EQ(field->type, FieldType::kF64);
+  EXPECT_EQ(field->count, 3);
+  EXPECT_EQ(field->unit, "m");
+  double x = 0;
+  std::memcpy(&x, log.records[0].data() + 7 * s->record_size + field->offset, sizeof x);
+  EXPECT_DOUBLE_EQ(x, 0.007);
+  const std::vector<LeaderTickRecord> back = log.Decode<LeaderTickRecord>("leader", LeaderStreamSpec());
+  ASSERT_EQ(back.size(), 500u);
+  for (std::uint64_t k = 0; k < 500; ++k) {
+    const LeaderTickRecord expected = Record(k);
+    EXPECT_EQ(std::memcmp(&back[k], &expected, sizeof expected), 0) << k;
+  }
+  std::filesystem::remove(file);
+}
+
+TEST(FlightRecorderTest, ALogCutShortKeepsEverythingBeforeTheCut) {
+  const auto file = TempLog("robossis_fr_cut.rlog");
+  {
+    SessionLogWriter log(file, {}, {LeaderStreamSpec()});
+    for (std::uint64_t k = 0; k < 10; ++k) {
+      const LeaderTickRecord r = Record(k);
+      log.Append(kLeaderStream, &r);
+    }
+  }
+  const auto size = std::filesystem::file_size(file);
+  std::filesystem::resize_file(file, size - sizeof(LeaderTickRecord) / 2);  // half of the last frame
+  const SessionLog log = ReadSessionLog(file);
+  EXPECT_TRUE(log.truncated);
+  const auto back = log.Decode<LeaderTickRecord>("leader", LeaderStreamSpec());
+  ASSERT_EQ(back.size(), 9u);
+  EXPECT_EQ(back.back().tick, 8u);
+  std::filesystem::remove(file);
+}
+
+TEST(FlightRecorderTest, AKilledWriterLeavesAReadableLog) {
+  const auto file = TempLog("robossis_fr_killed.rlog");
+  std::filesystem::remove(file);
+  // The child's count of records pushed, in shared memory.
+  auto* pushed = static_cast<std::atomic<std::uint64_t>*>(
+      mmap(nullptr, sizeof(std::atomic<std::uint64_t>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0));
+  ASSERT_NE(pushed, MAP_FAILED);
+  new (pushed) std::atomic<std::uint64_t>(0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    SessionLogWriter log(file, {}, {LeaderStreamSpec()});
+    rt::SpscQueue<LeaderTickRecord> queue(4096);
+    FlightRecorder recorder(log, [&](SessionLogWriter& w) {
+      LeaderTickRecord r;
+      while (queue.TryPop(r)) w.Append(kLeaderStream, &r);
+    });
+    recorder.Start();
+    for (std::uint64_t k = 0;; ++k) {
+      while (!queue.TryPush(Record(k))) std::this_thread::yield();
+      pushed->store(k + 1);
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  }
+  for (int i = 0; i < 4000 && pushed->load() < 300; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  const SessionLog log = ReadSessionLog(file);
+  const auto back = log.Decode<LeaderTickRecord>("leader", LeaderStreamSpec());
+  ASSERT_GT(back.size(), 0u);
+  EXPECT_LE(back.size(), pushed->load());
+  for (std::size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i].tick, i);  // intact and in order
+  munmap(pushed, sizeof(std::atomic<std::uint64_t>));
+  std::filesystem::remove(file);
+}
+
+TEST(FlightRecorderTest, ADifferentLayoutIsRefusedNamingTheField) {
+  const auto file = TempLog("robossis_fr_layout.rlog");
+  StreamSpec other = LeaderStreamSpec();
+  other.fields[3].name = "p_hand";
+  {
+    SessionLogWriter log(file, {}, {other});
+  }
+  const SessionLog log = ReadSessionLog(file);
+  try {
+    log.Decode<LeaderTickRecord>("leader", LeaderStreamSpec());
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("p_hand"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace robossis::teleop
