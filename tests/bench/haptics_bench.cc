@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include "haptics/haptics_config.h"
+#include "haptics/rendering/mesh_proxy_renderer.h"
 #include "haptics/rendering/mesh_wall_renderer.h"
 #include "haptics/rendering/point_cloud_renderer.h"
 #include "haptics/rendering/proxy_renderer.h"
@@ -128,6 +129,37 @@ void BM_MeshLiveTick(benchmark::State& state) {
   RunTicks(state, r, path);
 }
 BENCHMARK(BM_MeshLiveTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
+
+// mesh-proxy: the god-object on live slices regenerated around the proxy (generated before timing, as the
+// background refresh would have them; the refresh itself is BM_MeshProxyRefresh, off the real-time thread).
+void BM_MeshProxyTick(benchmark::State& state) {
+  auto live = std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(), Config().live);
+  MeshProxyRenderer r(Rsr(), HcToRsrMap{}, Config().limits, 1000, Config().wall, Config().mesh_proxy, Atlas(), live,
+                      -1.0);
+  const Path path(state.range(0) != 0);
+  HapticInput in;
+  HapticOutput out;
+  in.X_OH = path.poses[0];
+  r.Reset(in.X_OH);
+  r.Tick(in, out);    // posts the proxy pose
+  live->RefreshNow();  // generates and publishes the slices there
+  RunTicks(state, r, path);
+}
+BENCHMARK(BM_MeshProxyTick)->Arg(0)->Arg(1)->ArgName("edge")->Unit(benchmark::kMicrosecond);
+
+// The refresh that mesh-proxy runs off the real-time thread: both slices regenerated at a pose near the +x edge.
+void BM_MeshProxyRefresh(benchmark::State& state) {
+  geometry::LiveBoundary live(Rsr(), robot::Sigma7Model::Default(), Config().live);
+  const Path path(true);
+  int k = 0;
+  for (auto _ : state) {
+    Eigen::Isometry3d X = path.poses[k++ & 63];
+    X.linear() = Eigen::AngleAxisd(0.001 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();  // force a refresh
+    live.PostPose(X);
+    benchmark::DoNotOptimize(live.RefreshNow());
+  }
+}
+BENCHMARK(BM_MeshProxyRefresh)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace
 }  // namespace robossis::haptics
