@@ -2,11 +2,13 @@
 """Writes the fast-motion replay trajectories used by the rendering comparison and the tests.
 
 Each CSV is a hand trajectory in RSR space (header t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg; absolute pose of
-the moving ring in the fixed-ring frame F, home = (0, 0, 284 mm, 0, 0, 0)), far faster than the clinical motion and
-reaching far beyond the workspace, so that every method spends most of the time in deep, fast contact:
+the moving ring in the fixed-ring frame F, home = (0, 0, 284 mm, 0, 0, 0)), continuous, far faster than the clinical motion and
+reaching far beyond the workspace (the replay's first pose is the clutch anchor, and the sigma.7's delta reaches
+about ±100 mm around it, so a translational replay starts near the edge it goes beyond), so that every method spends most of the time in deep, fast contact:
 
-  fast_translation.csv  circles of 120 mm radius in x-y at 0.5 Hz (≈ 380 mm/s) with a ±60 mm z swing, then a
-                        straight 300 mm/s dash to 150 mm beyond +x and back;
+  fast_translation.csv  from 80 mm along +x (the +x edge at home is at 132 mm), a figure-eight of ±90 mm in x and
+                        y at 0.5 / 1 Hz (up to ≈ 400 mm/s, 40 mm beyond the edge) with a ±50 mm z swing, then a
+                        300 mm/s dash to 100 mm further (50 mm beyond the edge) and back;
   fast_rotation.csv     roll and pitch swinging ±40° and yaw ±60° at 0.4-0.7 Hz (≈ 100-260 °/s);
   fast_combined.csv     all six at once (a Lissajous figure), 90 mm / 35° amplitudes.
 
@@ -30,15 +32,16 @@ def ramp(t, t_in=0.5):
 
 
 def translation(t):
+    x0 = 80.0
     if t < 6.0:
         a = ramp(t)
         w = 2 * math.pi * 0.5
-        return (a * 120 * math.sin(w * t), a * 120 * (1 - math.cos(w * t)) - a * 60,
-                HOME_Z_MM + a * 60 * math.sin(2 * math.pi * 0.3 * t), 0, 0, 0)
-    # dash: 300 mm/s out to +150 mm, hold 0.5 s, back
+        return (x0 + a * 90 * math.sin(w * t), a * 90 * math.sin(2 * w * t),
+                HOME_Z_MM + a * 50 * math.sin(2 * math.pi * 0.25 * t), 0, 0, 0)
+    # dash: 300 mm/s out to 100 mm further, hold 0.5 s, back (continuous with the figure-eight's end at t = 6 s)
     u = t - 6.0
-    x = min(150.0, 300.0 * u) if u < 1.0 else max(0.0, 150.0 - 300.0 * (u - 1.0))
-    return (x, 0, HOME_Z_MM, 0, 0, 0)
+    dx = min(100.0, 300.0 * u) if u < 1.0 else max(0.0, 100.0 - 300.0 * (u - 1.0))
+    return (x0 + dx, 0, HOME_Z_MM, 0, 0, 0)
 
 
 def rotation(t):
