@@ -23,9 +23,9 @@ MeshProxyRenderer::MeshProxyRenderer(const robot::RsrModel& model, const HcToRsr
       name_(name) {
   if (!atlas_ && !live_) throw std::invalid_argument("mesh-proxy: needs a boundary atlas or a live boundary");
   if (params.bisection_steps < 1 || params.search_expansions < 1 || !(params.search_step_m > 0) ||
-      !(params.search_step_rad > 0)) {
+      !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0)) {
     throw std::invalid_argument(
-        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0");
+        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0, extra steps >= 0");
   }
   if (live_ && simulated_latency_s >= 0) {
     refresher_ = std::make_unique<geometry::SimulatedRefresher>(*live_, simulated_latency_s);
@@ -40,6 +40,7 @@ void MeshProxyRenderer::StepSimulatedBackground(double now_s) {
 void MeshProxyRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   const Eigen::Isometry3d X_FM = map_.ToRsr(X_OH);
   X_FP_ = robot::IsPoseFeasible(model_, X_FM) ? X_FM : model_.geometry().X_FM_home;
+  X_FM_previous_ = X_FM;
   translation_from_mesh_ = rotation_from_mesh_ = false;
 }
 
@@ -87,7 +88,17 @@ bool MeshProxyRenderer::MoveTranslation(const Eigen::Vector3d& p_HC,
         if (reach > 0 && robot::IsPoseFeasible(model_, X)) {
           const Eigen::Vector3d inside = X.translation();
           const double s = BisectTranslation(model_, R, inside, p_HC, params_.bisection_steps);
-          X_FP_.translation() = inside + s * (p_HC - inside);  // on the TRUE boundary, along the mesh normal
+          const Eigen::Vector3d contact = inside + s * (p_HC - inside);  // on the TRUE boundary, along the mesh normal
+          const Eigen::Vector3d p = X_FP_.translation();
+          const double limit = (p_HC - X_FM_previous_.translation()).norm() + params_.max_extra_step_m;
+          const double jump = (contact - p).norm();
+          if (params_.max_extra_step_m > 0 && jump > limit) {
+            // Toward the new contact by at most `limit`, staying feasible (p is).
+            const Eigen::Vector3d p_try = p + (limit / jump) * (contact - p);
+            X_FP_.translation() = p + BisectTranslation(model_, R, p, p_try, params_.bisection_steps) * (p_try - p);
+          } else {
+            X_FP_.translation() = contact;
+          }
           return true;
         }
         reach = mesh_depth + step;
@@ -130,7 +141,18 @@ bool MeshProxyRenderer::MoveRotation(const Eigen::Matrix3d& R_HC,
         X.linear() = R_in;
         if (reach > 0 && robot::IsPoseFeasible(model_, X)) {
           const double s = BisectRotation(model_, p, R_in, -reach * u, params_.bisection_steps);
-          X_FP_.linear() = RotationFromVector(-s * reach * u) * R_in;  // on the TRUE boundary
+          const Eigen::Matrix3d contact = RotationFromVector(-s * reach * u) * R_in;  // on the TRUE boundary
+          const Eigen::Matrix3d R = X_FP_.linear();
+          const Eigen::Vector3d jump = RotationVector(contact * R.transpose());
+          const double limit =
+              RotationVector(R_HC * X_FM_previous_.linear().transpose()).norm() + params_.max_extra_step_rad;
+          if (params_.max_extra_step_rad > 0 && jump.norm() > limit) {
+            const Eigen::Vector3d toward = (limit / jump.norm()) * jump;
+            const double t = BisectRotation(model_, p, R, toward, params_.bisection_steps);
+            X_FP_.linear() = RotationFromVector(t * toward) * R;
+          } else {
+            X_FP_.linear() = contact;
+          }
           return true;
         }
         reach = mesh_depth + step;
@@ -154,6 +176,7 @@ HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3
   const Eigen::Isometry3d X_before = X_FP_;
   translation_from_mesh_ = MoveTranslation(state.X_FM.translation(), dexterous);
   rotation_from_mesh_ = MoveRotation(state.X_FM.linear(), rotational);
+  X_FM_previous_ = state.X_FM;
   // The exact IK is the final check: the proxy (the follower's set-point) never leaves the true region.
   if (!robot::IsPoseFeasible(model_, X_FP_)) X_FP_ = X_before;
   const Eigen::Vector3d d_F = X_FP_.translation() - state.X_FM.translation();

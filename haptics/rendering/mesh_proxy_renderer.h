@@ -38,6 +38,11 @@ struct MeshProxyParams {
   double search_step_m = 0.0005;
   double search_step_rad = 0.25 * 3.14159265358979323846 / 180;
   int search_expansions = 5;
+  // [assumed] Optional memory of the contact (0: off). Far outside, the nearest face of a slice can change
+  // abruptly (the projection has no history), so the proxy may jump; with a limit > 0 the proxy moves per tick at
+  // most the HC's own motion plus this much (m, rad) toward the new contact, and catches up over a few ticks.
+  double max_extra_step_m = 0;
+  double max_extra_step_rad = 0;
 };
 
 class MeshProxyRenderer final : public HapticRenderer {
@@ -80,6 +85,7 @@ class MeshProxyRenderer final : public HapticRenderer {
   geometry::AtlasPoseQuery query_;
   geometry::PoseBoundaryResult result_;
   Eigen::Isometry3d X_FP_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d X_FM_previous_ = Eigen::Isometry3d::Identity();  // the HC pose of the previous tick
   bool translation_from_mesh_ = false;
   bool rotation_from_mesh_ = false;
 };
