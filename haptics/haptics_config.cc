@@ -1,5 +1,10 @@
 #include "haptics/haptics_config.h"
 
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include "haptics/rendering/renderer_factory.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
 
@@ -58,6 +63,19 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.live.position_tolerance_m = MmToM(live.PositiveNumber("position_tolerance_mm"));
   c.live_refresh_latency_s = live.PositiveNumber("simulated_refresh_latency_s");
   c.live_switch_blend_s = live.PositiveNumber("switch_blend_s");
+  const ConfigNode mp = root.Child("mesh_proxy");
+  c.mesh_proxy.bisection_steps = static_cast<int>(mp.NumberInRange("bisection_steps", 1, 60));
+  c.mesh_proxy.search_step_m = MmToM(mp.PositiveNumber("search_step_mm"));
+  c.mesh_proxy.search_step_rad = DegToRad(mp.PositiveNumber("search_step_deg"));
+  c.mesh_proxy.search_expansions = static_cast<int>(mp.NumberInRange("search_expansions", 1, 20));
+  c.mesh_proxy.max_extra_step_m = MmToM(mp.NumberInRange("max_extra_step_mm", 0, 100));
+  c.mesh_proxy.max_extra_step_rad = DegToRad(mp.NumberInRange("max_extra_step_deg", 0, 90));
+  c.hardware_default_method = root.String("hardware_default_method");
+  const std::vector<std::string> known = KnownMethods();
+  if (std::find(known.begin(), known.end(), c.hardware_default_method) == known.end()) {
+    throw std::runtime_error(file.string() + ": hardware_default_method: expected a rendering method name, got '" +
+                             c.hardware_default_method + "'");
+  }
   return c;
 }
 

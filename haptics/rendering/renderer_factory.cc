@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "haptics/rendering/mesh_proxy_renderer.h"
 #include "haptics/rendering/mesh_wall_renderer.h"
 #include "haptics/rendering/point_cloud_renderer.h"
 #include "haptics/rendering/proxy_renderer.h"
@@ -9,7 +10,7 @@
 namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods() {
-  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live", "proxy", "proxy-safe", "proxy-pc"};
+  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live", "mesh-proxy", "proxy", "proxy-safe", "proxy-pc"};
 }
 
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
@@ -48,6 +49,13 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
       mesh->UseLiveBoundary(std::move(live), config.live_refresh_latency_s, config.live_switch_blend_s);
     }
     r = std::move(mesh);
+  } else if (method == "mesh-proxy") {
+    auto live = std::make_shared<geometry::LiveBoundary>(model, robot::Sigma7Model::Default(), config.live);
+    const bool thread = background == BackgroundWork::kThread;
+    if (thread) live->Start();
+    r = std::make_unique<MeshProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.mesh_proxy,
+                                            std::move(atlas), std::move(live),
+                                            thread ? -1.0 : config.live_refresh_latency_s, "mesh-proxy");
   } else if (method == "proxy") {
     r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.proxy, "proxy");
   } else if (method == "proxy-safe") {

@@ -11,6 +11,9 @@
 //                    (needs an atlas: `robossis workspace atlas --out DIR`)
 //   mesh-live        the same on slices regenerated at the current pose in the background (geometry/live_boundary.h),
 //                    the atlas (optional) answering until the first refresh lands
+//   mesh-proxy       a god-object on the same meshes (slices regenerated around the proxy, the atlas optional): the
+//                    mesh gives the direction back inside, the exact IK the true boundary along it; the wall law of
+//                    proxy (haptics/rendering/mesh_proxy_renderer.h)
 
 #include <memory>
 #include <string>

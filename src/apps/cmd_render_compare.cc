@@ -48,8 +48,8 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   RenderCompareResult result;
   result.scenario = haptics::MakeScenario(request.scenario, rsr, config.hand, config.strike_hand_stiffness_n_per_m,
                                           request.fast);
-  // "mesh" needs the atlas; "mesh-live" uses it until its first refresh lands.
-  const auto uses_atlas = [](const std::string& m) { return m == "mesh" || m == "mesh-live"; };
+  // "mesh" needs the atlas; "mesh-live" and "mesh-proxy" use it until their first refresh lands.
+  const auto uses_atlas = [](const std::string& m) { return m == "mesh" || m == "mesh-live" || m == "mesh-proxy"; };
   if (std::any_of(request.methods.begin(), request.methods.end(), uses_atlas)) {
     if (request.atlas) {
       result.atlas = request.atlas;

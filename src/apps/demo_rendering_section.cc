@@ -28,6 +28,9 @@ void WriteRenderingSection(DemoContext& demo) {
     << "- `mesh-live`: the same walls on slices regenerated at the current pose in the background (geometry "
        "module's live boundary; in these simulations each refresh lands after a modelled latency, "
        "`mesh_live.simulated_refresh_latency_s` in haptics.yaml), the atlas answering until the first one lands;\n"
+    << "- `mesh-proxy`: a god-object on the same meshes — slices regenerated around the proxy, the mesh's nearest "
+       "point giving the direction back inside and the exact IK the true boundary along it, the proxy's virtual "
+       "coupling;\n"
     << "- `proxy`: ours — a god-object kept on the true boundary by bisection on the IK feasibility, sliding "
        "along the boundary's exact normal, virtual coupling with the paper's constants;\n"
     << "- `proxy-safe` / `proxy-pc`: ours with the device-safe preset, without / with the passivity controller.\n\n"
@@ -45,7 +48,7 @@ void WriteRenderingSection(DemoContext& demo) {
                            {"strike", 4000, "The same strike with a 4 kHz haptic loop", true}};
   if (demo.fast) runs = {{"push-edges", 1000, "Pushing into two edges (x+, roll+), 1 kHz, fast"}};
   // --fast: the paper's method, mesh walls and ours (the presets and passivity variants only in the full report).
-  const std::vector<std::string> core_methods = {"pointcloud", "mesh", "mesh-live", "proxy", "proxy-pc"};
+  const std::vector<std::string> core_methods = {"pointcloud", "mesh", "mesh-live", "mesh-proxy", "proxy", "proxy-pc"};
   const std::vector<std::string> all_methods = demo.fast ? core_methods : haptics::KnownMethods();
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // built by the first run, reused by the others
   std::string atlas_note;

@@ -1,0 +1,199 @@
+// mesh-proxy: the god-object on the boundary meshes, with the exact IK as the final check.
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "haptics/rendering/boundary_probe.h"
+#include "haptics/rendering/mesh_proxy_renderer.h"
+#include "haptics/rendering/proxy_renderer.h"
+#include "haptics/scenarios/compare.h"
+#include "haptics/scenarios/scenario.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+#include "test_util.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::haptics {
+namespace {
+
+using testing::Config;
+using testing::Hold;
+using testing::Home;
+using testing::IdentityMap;
+using testing::Rsr;
+using testing::Translated;
+
+std::shared_ptr<geometry::LiveBoundary> MakeLive() {
+  return std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(), Config().live);
+}
+
+// A renderer on live slices only (no atlas), refreshed explicitly by the test (latency < 0: no simulated refresher).
+struct LiveOnly {
+  std::shared_ptr<geometry::LiveBoundary> live = MakeLive();
+  MeshProxyRenderer r{Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, Config().mesh_proxy, nullptr,
+                      live, -1.0};
+  // Starts at X_start, lets the proxy post its pose, and generates the slices there.
+  void StartAt(const Eigen::Isometry3d& X_start) {
+    r.Reset(X_start);
+    Hold(r, X_start, 1);
+    live->RefreshNow();
+  }
+};
+
+Eigen::Isometry3d Rotated(const Eigen::Isometry3d& X, const Eigen::Vector3d& rotvec) {
+  Eigen::Isometry3d Y = X;
+  Y.linear() = RotationFromVector(rotvec) * X.linear();
+  return Y;
+}
+
+double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return RadToDeg(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+}
+
+TEST(MeshProxy, InsideIsTheViscousTermOnly) {
+  LiveOnly m;
+  m.StartAt(Home());
+  const Eigen::Vector3d v(0.01, 0, 0);
+  const HapticOutput out = Hold(m.r, Translated(Home(), Eigen::Vector3d(0.01, 0.005, 0)), 3, v);
+  EXPECT_EQ(out.status, HapticStatus::kFree);
+  EXPECT_TRUE(out.f_O.isApprox(-Config().wall.c_f_ns_per_m * v, 1e-12));
+  EXPECT_TRUE(m.r.proxy_pose().isApprox(Translated(Home(), Eigen::Vector3d(0.01, 0.005, 0)), 1e-12));
+}
+
+// Beyond each translational edge the force points back inside along the TRUE normal (within the goal: no more than
+// 2 degrees worse than the proxy on the true boundary), from a proxy that stays feasible and on the true boundary.
+TEST(MeshProxy, PushesBackAlongTheTrueNormalBeyondTheTranslationalEdges) {
+  const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ(),
+                                             Eigen::Vector3d(1, 0.3, 0).normalized(),
+                                             Eigen::Vector3d(-0.2, -1, 0).normalized()};
+  for (const Eigen::Vector3d& axis : axes) {
+    LiveOnly m;
+    m.StartAt(Home());
+    ProxyRenderer proxy(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, Config().proxy);
+    proxy.Reset(Home());
+    const double reach = ReachAlongAxis(Rsr(), Home(), axis, false, 0.3);
+    // Walk out to 5 mm beyond in 0.5 mm steps (the proxy methods follow the hand), then hold.
+    HapticOutput out, out_proxy;
+    for (double s = 0; s <= reach + 0.005; s += 0.0005) {
+      out = Hold(m.r, Translated(Home(), s * axis), 1);
+      out_proxy = Hold(proxy, Translated(Home(), s * axis), 1);
+    }
+    const Eigen::Isometry3d X = Translated(Home(), (reach + 0.005) * axis);
+    out = Hold(m.r, X, 3);
+    out_proxy = Hold(proxy, X, 3);
+    ASSERT_EQ(out.status, HapticStatus::kContact) << axis.transpose();
+    EXPECT_TRUE(m.r.last_translation_from_mesh()) << axis.transpose();
+    EXPECT_TRUE(robot::IsPoseFeasible(Rsr(), m.r.proxy_pose()));
+    EXPECT_LT(TightestLimit(Rsr(), m.r.proxy_pose()).margin, 1e-4) << "the proxy is on the true boundary";
+    const Eigen::Vector3d n = InwardNormalTranslation(Rsr(), X);
+    const double error = AngleDeg(out.f_O, n), error_proxy = AngleDeg(out_proxy.f_O, n);
+    EXPECT_LT(error, error_proxy + 2.0) << axis.transpose();
+    // Depth: the true distance to the boundary along the force, not the mesh's.
+    EXPECT_NEAR(out.f_O.norm(), Config().wall.k_f_n_per_m * TranslationalPenetration(Rsr(), X), 0.5)
+        << axis.transpose();
+  }
+}
+
+TEST(MeshProxy, TurnsBackAlongTheTrueNormalBeyondTheRotationalEdges) {
+  const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                             -Eigen::Vector3d::UnitZ()};
+  for (const Eigen::Vector3d& axis : axes) {
+    LiveOnly m;
+    m.StartAt(Home());
+    ProxyRenderer proxy(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, Config().proxy);
+    proxy.Reset(Home());
+    const double reach = ReachAlongAxis(Rsr(), Home(), axis, true, 1.0);
+    HapticOutput out, out_proxy;
+    for (double s = 0; s <= reach + DegToRad(1.5); s += DegToRad(0.1)) {
+      out = Hold(m.r, Rotated(Home(), s * axis), 1);
+      out_proxy = Hold(proxy, Rotated(Home(), s * axis), 1);
+    }
+    const Eigen::Isometry3d X = Rotated(Home(), (reach + DegToRad(1.5)) * axis);
+    out = Hold(m.r, X, 3);
+    out_proxy = Hold(proxy, X, 3);
+    ASSERT_EQ(out.status, HapticStatus::kContact) << axis.transpose();
+    EXPECT_TRUE(m.r.last_rotation_from_mesh()) << axis.transpose();
+    EXPECT_TRUE(robot::IsPoseFeasible(Rsr(), m.r.proxy_pose()));
+    const Eigen::Vector3d n = InwardNormalRotation(Rsr(), X);
+    EXPECT_LT(AngleDeg(out.tau_O, n), AngleDeg(out_proxy.tau_O, n) + 2.0) << axis.transpose();
+  }
+}
+
+// No phantom wall: a slice made at a pose that is stale by far more than the refresh latency allows (2 degrees of
+// pitch: the dexterous boundary has moved by several mm) disagrees with the truth, but a feasible HC pose still
+// feels no wall, and an infeasible one feels the true one.
+TEST(MeshProxy, NoPhantomWallOnAStaleSlice) {
+  LiveOnly m;
+  m.r.Reset(Home());
+  const Eigen::Vector3d rpy_stale(0, DegToRad(2), 0);
+  m.live->Publish(m.live->Generate(geometry::SliceKind::kRsrDexterous, rpy_stale));
+  m.live->Publish(m.live->Generate(geometry::SliceKind::kRsrRotational, Home().translation() +
+                                                                          Eigen::Vector3d(0.004, 0, 0)));
+  // Walk along +x and -x to 0.2 mm inside the true edge, slowly, at the home orientation.
+  for (const double sign : {1.0, -1.0}) {
+    const Eigen::Vector3d axis(sign, 0, 0);
+    const double reach = ReachAlongAxis(Rsr(), Home(), axis, false, 0.3);
+    m.r.Reset(Home());
+    double worst = 0;
+    for (double s = 0; s <= reach - 0.0002; s += 0.0002) {
+      const HapticOutput out = Hold(m.r, Translated(Home(), s * axis), 1);
+      worst = std::max(worst, out.f_O.norm());
+    }
+    EXPECT_LE(worst, 1e-9) << "sign " << sign;
+    // Beyond the edge: the true wall (depth and normal of the true boundary), however stale the slice.
+    const Eigen::Isometry3d X = Translated(Home(), (reach + 0.002) * axis);
+    const HapticOutput out = Hold(m.r, X, 2);
+    EXPECT_GT(out.f_O.dot(InwardNormalTranslation(Rsr(), X)),
+              0.9 * Config().wall.k_f_n_per_m * TranslationalPenetration(Rsr(), X))
+        << "sign " << sign;
+  }
+  // Rotations inside the true region (0.1 deg short of the roll limit) feel nothing either.
+  const double reach = ReachAlongAxis(Rsr(), Home(), Eigen::Vector3d::UnitX(), true, 1.0);
+  m.r.Reset(Home());
+  double worst_torque = 0;
+  for (double s = 0; s <= reach - DegToRad(0.1); s += DegToRad(0.05)) {
+    worst_torque = std::max(worst_torque, Hold(m.r, Rotated(Home(), s * Eigen::Vector3d::UnitX()), 1).tau_O.norm());
+  }
+  EXPECT_LE(worst_torque, 1e-9);
+}
+
+TEST(MeshProxy, TickAllocatesNothing) {
+  LiveOnly m;
+  m.StartAt(Home());
+  const double reach = ReachAlongAxis(Rsr(), Home(), Eigen::Vector3d::UnitZ(), false, 0.3);
+  HapticInput in;
+  HapticOutput out;
+  in.X_OH = Translated(Home(), Eigen::Vector3d(0, 0, reach + 0.003));
+  m.r.Tick(in, out);
+  robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 300; ++k) {
+    in.X_OH = Rotated(Translated(Home(), Eigen::Vector3d(1e-4 * k, 0, reach + 0.003)),
+                      Eigen::Vector3d(DegToRad(0.05) * k, 0, 0));  // translational and rotational contact
+    m.r.Tick(in, out);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(out.status, HapticStatus::kContact);
+}
+
+// Zero energy on the scenarios (fast versions), through the factory, on live slices with the modelled latency.
+TEST(MeshProxy, GeneratesNoEnergyOnTheScenarios) {
+  const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
+  CompareSettings settings;
+  settings.keep_trace = false;
+  const std::vector<std::string> scenarios = {"push-edges", "strike",
+                                              std::string(ROBOSSIS_HAPTICS_TEST_DATA) + "/fast_rotation.csv"};
+  for (const std::string& name : scenarios) {
+    const Scenario s = MakeScenario(name, Rsr(), Config().hand, Config().strike_hand_stiffness_n_per_m, true);
+    const MethodRun run = RunMethod(s, "mesh-proxy", Config(), Rsr(), sigma7, settings);
+    EXPECT_LE(run.metrics.energy_generated_j, 1e-3) << name;
+    EXPECT_EQ(run.metrics.fault_ticks, 0) << name;
+  }
+}
+
+}  // namespace
+}  // namespace robossis::haptics
