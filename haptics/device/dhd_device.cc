@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "src/core/config.h"
+
 namespace robossis::haptics {
 
 namespace {
@@ -239,5 +241,13 @@ DeviceStatus DhdDevice::ReleaseHold() noexcept {
 }
 
 std::unique_ptr<HapticDevice> OpenDhdDevice(const DhdOptions& options) { return DhdDevice::Open(options); }
+
+bool IsDhdDeviceSpec(const std::string& spec) { return spec == "dhd" || spec.rfind("dhd:", 0) == 0; }
+
+std::unique_ptr<HapticDevice> OpenDhdDevice(const std::string& spec, const DeviceLimits& limits) {
+  DhdOptions options = ParseDhdOptions(spec, DhdOptionsFromYaml(DefaultDataDir() / "config" / "dhd.yaml"));
+  options.limits = limits;
+  return DhdDevice::Open(options);
+}
 
 }  // namespace robossis::haptics

@@ -87,7 +87,12 @@ class DhdDevice final : public HapticDevice {
 // anything else (communication error, busy, unknown) → kCommError.
 DeviceStatus DeviceStatusFromDhdError(int error) noexcept;
 
-// The factory's entry point for `--device dhd[:...]`.
+// The factory's entry points for `--device dhd[:...]`.
 std::unique_ptr<HapticDevice> OpenDhdDevice(const DhdOptions& options);
+// "dhd" or "dhd:...".
+bool IsDhdDeviceSpec(const std::string& spec);
+// The options of <data dir>/config/dhd.yaml, then the spec's keys (dhd_options.h), with the runtime's `limits`.
+// Throws std::invalid_argument for a bad spec, std::runtime_error as DhdDevice::Open.
+std::unique_ptr<HapticDevice> OpenDhdDevice(const std::string& spec, const DeviceLimits& limits);
 
 }  // namespace robossis::haptics

@@ -14,6 +14,7 @@
 #include "haptics/rendering/renderer_factory.h"
 #include "haptics/scenarios/scenario.h"
 #include "robot/sigma7_model.h"
+#include "src/core/config.h"
 #include "test_util.h"
 #include "tests/haptics/fake_dhd/fake_dhd_control.h"
 #include "tests/support/alloc_counter.h"
@@ -105,7 +106,7 @@ class DhdDeviceTest : public ::testing::Test {
   FakeSdk fake_{FAKE_DHD_LIBRARY};
   double now_s_ = 0;
   // One tick of the loop with a fixed command: read, write.
-  DeviceWriteReport Tick(DhdDevice& device, const DeviceCommand& command) {
+  DeviceWriteReport Tick(HapticDevice& device, const DeviceCommand& command) {
     now_s_ += kTick;
     device.Read(now_s_);
     return device.Write(command);
@@ -347,6 +348,22 @@ TEST_F(DhdDeviceTest, TheEnvironmentVariablePointsAtTheLibrary) {
   unsetenv("ROBOSSIS_DHD_LIBRARY");
   ASSERT_NE(device, nullptr);
   EXPECT_EQ(device->info().library_path, FAKE_DHD_LIBRARY);
+}
+
+TEST_F(DhdDeviceTest, TheFactorySpecReadsDhdYamlAndTakesTheRuntimeLimits) {
+  EXPECT_TRUE(IsDhdDeviceSpec("dhd"));
+  EXPECT_TRUE(IsDhdDeviceSpec("dhd:serial=1"));
+  EXPECT_FALSE(IsDhdDeviceSpec("dhdx"));
+  EXPECT_FALSE(IsDhdDeviceSpec("sim"));
+  DeviceLimits limits;
+  limits.max_force_n = 12;
+  auto device = OpenDhdDevice(std::string("dhd:lib=") + FAKE_DHD_LIBRARY + ",serial=1234", limits);
+  EXPECT_EQ(device->limits().max_force_n, 12);
+  const int window_ms = DhdOptionsFromYaml(DefaultDataDir() / "config" / "dhd.yaml").velocity_window_ms;
+  EXPECT_EQ(fake_.State().linear_window_ms, window_ms);
+  device->EnableForces(true);
+  Tick(*device, Command({30, 0, 0}));
+  EXPECT_DOUBLE_EQ(fake_.Force().x(), 12.0);
 }
 
 TEST_F(DhdDeviceTest, ReadAndWriteDoNotAllocate) {
