@@ -198,7 +198,7 @@ DeviceStatus DhdDevice::StartRegulation() noexcept {
 
 DeviceStatus DhdDevice::HoldAt(const Eigen::Vector3d& p_O) noexcept {
   if (!p_O.allFinite()) return DeviceStatus::kInvalidReading;
-  DeviceStatus status = StartRegulation();
+  DeviceStatus status = holding_ ? DeviceStatus::kOk : StartRegulation();  // a new target for a running hold
   if (status != DeviceStatus::kOk) return status;
   double p[dhd::kMaxDof] = {}, R[3][3];
   // The current pose in the regulation's own coordinates, so that only the position changes.
@@ -211,6 +211,7 @@ DeviceStatus DhdDevice::HoldAt(const Eigen::Vector3d& p_O) noexcept {
   }
   if (status != DeviceStatus::kOk) {
     drd_.drdStop(false, id_);
+    holding_ = false;
     return status;
   }
   holding_ = true;
@@ -218,10 +219,11 @@ DeviceStatus DhdDevice::HoldAt(const Eigen::Vector3d& p_O) noexcept {
 }
 
 DeviceStatus DhdDevice::HoldHere() noexcept {
-  DeviceStatus status = StartRegulation();
+  DeviceStatus status = holding_ ? DeviceStatus::kOk : StartRegulation();
   if (status == DeviceStatus::kOk) status = Check(drd_.drdHold(id_));
   if (status != DeviceStatus::kOk) {
     if (drd_open_) drd_.drdStop(false, id_);
+    holding_ = false;
     return status;
   }
   holding_ = true;

@@ -66,7 +66,6 @@ std::vector<std::string> DrdLibraryCandidates(const std::string& explicit_path) 
 DhdApi LoadDhdApi(const SharedLibrary& library) {
   DhdApi api{};
   ROBOSSIS_BIND(api, library, dhdGetDeviceCount);
-  ROBOSSIS_BIND(api, library, dhdOpen);
   ROBOSSIS_BIND(api, library, dhdOpenID);
   ROBOSSIS_BIND(api, library, dhdOpenSerial);
   ROBOSSIS_BIND(api, library, dhdClose);

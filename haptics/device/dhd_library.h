@@ -38,7 +38,6 @@ inline constexpr int kMaxDof = 8;
 // libdhd's functions used by DhdDevice (public signatures; return < 0 on error unless noted).
 struct DhdApi {
   int (*dhdGetDeviceCount)();
-  int (*dhdOpen)();                  // the first device; returns its id
   int (*dhdOpenID)(char id);         // returns the id
   int (*dhdOpenSerial)(int serial);  // returns the id
   int (*dhdClose)(char id);

@@ -421,6 +421,14 @@ TEST(DhdDeviceHold, TheRegulationHoldsTheHandleAgainstTheHandAndReleasesIt) {
   const Eigen::Vector3d here = fake.Position();
   for (int k = 0; k < 400; ++k) device->Read(now_s += kTick);
   EXPECT_NEAR((fake.Position() - here).norm(), 0, 0.001);
+
+  // A new target for the running hold, then the device lost under it: a status, and the hold is off.
+  ASSERT_EQ(device->HoldAt(hold), DeviceStatus::kOk);
+  for (int k = 0; k < 8000; ++k) device->Read(now_s += kTick);
+  EXPECT_NEAR((fake.Position() - hold).norm(), 0.004, 0.001);
+  fake.unplug();
+  EXPECT_EQ(device->HoldAt(Centre()), DeviceStatus::kDeviceLost);
+  EXPECT_FALSE(device->holding());
 }
 
 }  // namespace
