@@ -36,9 +36,9 @@ std::string AndNames(const std::string& c) {
 // What both targets share: the heartbeat loop-back, HAL's watchdog on the follower, one AND gate per drive enable.
 void WriteSafetyChain(std::ostream& os, const HalConfig& hal) {
   const std::string& c = hal.component_name;
-  os << "\n# Heartbeat: " << PinName(c, UnitPin::kWatchdog) << " is the follower's heartbeat: the servo thread echoes\n"
-     << "# it inverted and the follower toggles it once it sees the echo (a frozen echo is lost feedback for the\n"
-     << "# follower; a toggle per servo period while both run). HAL's watchdog cuts every drive enable\n"
+  os << "\n# Heartbeat " << PinName(c, UnitPin::kWatchdog) << ": the servo thread echoes it inverted and the follower\n"
+     << "# toggles it once it sees the echo (a toggle per servo period while both run; a frozen echo is lost\n"
+     << "# feedback for the follower). HAL's watchdog cuts every drive enable\n"
      << "# when it stops toggling for " << Num(hal.follower_timeout_s) << " s (a dead or stalled follower). "
      << PinName(c, UnitPin::kEnabled) << "\n# re-arms the watchdog on each enable.\n"
      << "setp watchdog.timeout-0 " << Num(hal.follower_timeout_s) << "\n"

@@ -85,6 +85,19 @@ bool HalSession::GetBit(const std::string& name) {
   throw std::runtime_error("halcmd getp " + name + ": not a bit: " + out);
 }
 
+std::map<std::string, std::string> HalSession::PinValues(const std::string& prefix) {
+  // Lines of `show pin`: owner, type, direction, value, name [, "==>" or "<==" signal].
+  std::map<std::string, std::string> values;
+  std::istringstream lines(Halcmd("show pin " + prefix));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string owner, type, dir, value, name;
+    if (words >> owner >> type >> dir >> value >> name && name.rfind(prefix, 0) == 0) values[name] = value;
+  }
+  return values;
+}
+
 HalSession::HalSession(const std::filesystem::path& hal_file) {
   PrepareEnvironment();
   // A session left by a test binary that crashed would block this one: clear it.

@@ -5,6 +5,7 @@
 // RTAPI_FIFO_PATH (a folder that uid can write): the session sets both.
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace robossis::testing {
@@ -22,6 +23,8 @@ class HalSession {
   // `halcmd getp NAME` as a number / a bit.
   static double GetNumber(const std::string& name);
   static bool GetBit(const std::string& name);
+  // Every pin whose name starts with `prefix`, name -> value as halcmd prints it, from one `halcmd show pin`.
+  static std::map<std::string, std::string> PinValues(const std::string& prefix);
   // True if any HAL component is loaded (besides halcmd itself).
   static bool AnyComponentLoaded();
   // Sets RTAPI_UID/RTAPI_FIFO_PATH in this process when running as root (idempotent).
