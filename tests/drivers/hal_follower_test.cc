@@ -1,0 +1,243 @@
+// The HAL follower against a real LinuxCNC HAL: halrun with the shipped software-stepgen file, the follower as its
+// userspace component, driven by the project's actuation (eq. 15-17) on an eq. 9 move. Each test starts halrun and
+// stops it (HalSession), even when it fails; the follower is destroyed first (halrun -U would signal it).
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "haptics/transfer/timed_move.h"
+#include "robot/actuation/actuator.h"
+#include "robot/drivers/hal_follower.h"
+#include "src/core/config.h"
+#include "robot/drivers/hal_names.h"
+#include "src/core/rt/clock.h"
+#include "src/core/units.h"
+#include "tests/drivers/hal_session.h"
+#include "tests/drivers/servo_thread.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::drivers {
+namespace {
+
+using robot::FollowerFault;
+using testing::HalSession;
+using testing::ServoThread;
+
+std::filesystem::path DataDir() { return DefaultDataDir(); }
+HalConfig LoadHalConfig() { return HalConfig::FromYaml(DataDir() / "config" / "hal.yaml"); }
+actuation::ActuationConfig LoadActuationConfig() {
+  return actuation::ActuationConfig::FromYaml(DataDir() / "config" / "actuation.yaml");
+}
+
+// Homes and enables once the servo thread has shown that HAL runs.
+void HomeAndEnable(ServoThread& servo) {
+  ServoThread::Sleep(0.2);
+  ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Home(); }));
+  ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
+}
+
+robot::RsrFollowerState StateOf(ServoThread& servo) {
+  return servo.With([](HalFollower& f) { return f.State(); });
+}
+
+class HalFollowerTest : public ::testing::Test {
+ protected:
+  void SetUp() override { session_ = std::make_unique<HalSession>(DataDir() / "hal" / "robossis-stepgen.hal"); }
+  void TearDown() override { session_.reset(); }
+
+  const robot::RsrModel model_ = robot::RsrModel::Default();
+  const rt::MonotonicClock clock_;
+  std::unique_ptr<HalSession> session_;
+};
+
+TEST_F(HalFollowerTest, StepCountsMatchEq17AndFeedbackFollowsTheCommand) {
+  const actuation::ActuationConfig act_config = LoadActuationConfig();
+  HalFollower follower(model_, LoadHalConfig());
+
+  // An eq. 9 move of all six DOF: every motor moves by more than 50 steps.
+  transfer::TimedMoveRequest request;
+  request.delta_p_F = Eigen::Vector3d(MmToM(-8), MmToM(-6), MmToM(10));
+  request.delta_rot_F = Eigen::Vector3d(0.10, -0.12, 0.08);
+  request.start_time_s = 0.1;
+  const Eigen::Isometry3d& X_home = model_.geometry().X_FM_home;
+  const transfer::TimedMove move(X_home, request, 2.0);
+  actuation::Actuator actuator(model_, act_config, X_home, 0);
+  const double dt = 1.0 / act_config.actuation_rate_hz;
+
+  std::atomic<double> t0{std::numeric_limits<double>::infinity()};
+  std::int64_t tick = 0;
+  std::array<double, actuation::kNumMotors> worst_lag_steps{};  // |feedback - command| during the move, steps
+  ServoThread servo(follower, clock_, [&](HalFollower& f, double now) {
+    // The 10 kHz actuation ticks up to now (the follower unit runs them on its own thread).
+    for (; (tick + 1) * dt <= now - t0; ++tick) {
+      const transfer::RsrSetPoint sp = move.Evaluate((tick + 1) * dt);
+      actuator.Tick((tick + 1) * dt, sp.X_FM, sp.velocity);
+    }
+    if (tick == 0) return;  // the move has not started: nothing to command yet
+    actuation::CommandFollower(actuator.output(), f);
+    for (int m = 0; m < actuation::kNumMotors; ++m) {
+      const double lag = std::abs(f.State().q[m] - actuator.q()[m]) * act_config.motors[m].steps_per_unit;
+      worst_lag_steps[m] = std::max(worst_lag_steps[m], lag);
+    }
+  });
+  HomeAndEnable(servo);
+  t0 = clock_.NowS();
+  ServoThread::Sleep(move.end_time_s() + 1.0);  // the move, then time to settle
+
+  const robot::RsrFollowerState state = StateOf(servo);
+  ASSERT_EQ(state.fault, FollowerFault::kNone) << ToString(state.fault);
+  ASSERT_TRUE(state.enabled);
+  const auto [steps, q_cmd, lag] = servo.With(
+      [&](HalFollower&) { return std::make_tuple(actuator.output().steps, actuator.q(), worst_lag_steps); });
+  for (int m = 0; m < actuation::kNumMotors; ++m) {
+    EXPECT_GT(std::abs(steps[m]), 50) << "motor " << m << " barely moved: the move tests nothing";
+    RecordProperty("eq17_steps_motor_" + std::to_string(m), std::to_string(steps[m]));
+    const double counts = HalSession::GetNumber("stepgen." + std::to_string(m) + ".counts");
+    EXPECT_LE(std::abs(counts - static_cast<double>(steps[m])), 1.0)
+        << "motor " << m << ": LinuxCNC " << counts << " steps, eq. 17 " << steps[m];
+    // The position feedback follows the command: the measured joint is the commanded one within a step.
+    EXPECT_LE(std::abs(state.q[m] - q_cmd[m]) * act_config.motors[m].steps_per_unit, 1.0) << "motor " << m;
+    // And it followed during the move: a coarse bound (half of the motor's motion), not a timing one.
+    EXPECT_LT(lag[m], 0.5 * std::abs(static_cast<double>(steps[m]))) << "motor " << m;
+    RecordProperty("worst_lag_steps_motor_" + std::to_string(m), std::to_string(lag[m]));
+  }
+}
+
+TEST_F(HalFollowerTest, RaisedFaultPinFaultsTheFollowerWithinOneServoPeriod) {
+  const HalConfig config = LoadHalConfig();
+  const std::string fault_signal = SignalName(config.component_name, UnitPin::kFault);
+  HalFollower follower(model_, config);
+  ServoThread servo(follower, clock_);
+  HomeAndEnable(servo);
+  ServoThread::Sleep(0.1);
+  ASSERT_TRUE(HalSession::GetBit("stepgen.0.enable"));
+
+  // The fault pin is linked to its signal; a HAL user (or the E-stop chain) raises the signal.
+  HalSession::Halcmd("sets " + fault_signal + " 1");
+  servo.Mark();  // the first Service() that starts after the rise, i.e. within one servo period
+  ServoThread::Sleep(0.05);
+  const std::optional<robot::RsrFollowerState> after = servo.StateAfterMark();
+  ASSERT_TRUE(after.has_value());
+  EXPECT_EQ(after->fault, FollowerFault::kExternal) << ToString(after->fault);
+  EXPECT_FALSE(after->enabled);
+  EXPECT_FALSE(HalSession::GetBit("stepgen.0.enable"));
+  EXPECT_FALSE(servo.With([](HalFollower& f) { return f.Enable(); }));
+  EXPECT_FALSE(servo.With([](HalFollower& f) { return f.ResetFault(); })) << "the cause is still there";
+
+  HalSession::Halcmd("sets " + fault_signal + " 0");
+  ServoThread::Sleep(0.05);
+  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
+}
+
+TEST_F(HalFollowerTest, StoppedHalThreadsAreLostFeedback) {
+  const HalConfig config = LoadHalConfig();
+  HalFollower follower(model_, config);
+  ServoThread servo(follower, clock_);
+  HomeAndEnable(servo);
+  HalSession::Halcmd("stop");
+  ServoThread::Sleep(3 * config.feedback_timeout_s);
+  EXPECT_EQ(StateOf(servo).fault, FollowerFault::kFeedbackLost) << ToString(StateOf(servo).fault);
+  EXPECT_FALSE(StateOf(servo).enabled);
+  EXPECT_FALSE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+
+  HalSession::Halcmd("start");
+  ServoThread::Sleep(0.2);
+  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
+}
+
+TEST_F(HalFollowerTest, StalledFollowerHasItsDrivesCutByHalsWatchdog) {
+  const HalConfig config = LoadHalConfig();
+  HalFollower follower(model_, config);
+  ServoThread servo(follower, clock_);
+  HomeAndEnable(servo);
+  ServoThread::Sleep(0.1);
+  ASSERT_TRUE(HalSession::GetBit("stepgen.3.enable"));
+
+  // Stall the servo loop (hold its lock) for three watchdog timeouts.
+  bool cut = false;
+  servo.With([&](HalFollower&) {
+    ServoThread::Sleep(3 * config.follower_timeout_s);
+    cut = !HalSession::GetBit("stepgen.3.enable");
+    return 0;
+  });
+  EXPECT_TRUE(cut) << "HAL's watchdog did not cut the drive";
+  ServoThread::Sleep(0.05);
+  EXPECT_EQ(StateOf(servo).fault, FollowerFault::kDrive) << "the follower must know its drives were cut";
+  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+  ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));  // re-arms HAL's watchdog
+  ServoThread::Sleep(0.1);
+  EXPECT_TRUE(HalSession::GetBit("stepgen.3.enable"));
+}
+
+TEST_F(HalFollowerTest, ComponentLeavesHalWhenTheFollowerStops) {
+  const HalConfig config = LoadHalConfig();
+  {
+    HalFollower follower(model_, config);
+    ServoThread servo(follower, clock_);
+    HomeAndEnable(servo);
+    ServoThread::Sleep(0.05);
+    EXPECT_NE(HalSession::Halcmd("list comp").find(config.component_name), std::string::npos);
+  }
+  EXPECT_EQ(HalSession::Halcmd("list comp").find(config.component_name), std::string::npos)
+      << HalSession::Halcmd("show comp");
+  ServoThread::Sleep(0.02);
+  EXPECT_FALSE(HalSession::GetBit("stepgen.0.enable")) << "the drives must stay disabled";
+  // The name is free again: a restarted follower joins under it.
+  HalFollower again(model_, config);
+  EXPECT_FALSE(again.State().enabled);
+}
+
+TEST_F(HalFollowerTest, CommandAndServiceAllocateNothing) {
+  HalFollower follower(model_, LoadHalConfig());
+  {
+    ServoThread servo(follower, clock_);
+    HomeAndEnable(servo);
+  }
+  robot::RsrJointCommand command;
+  command.q = follower.q_home();
+  command.q[3] += MmToM(0.01);
+  robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 200; ++k) {
+    follower.Command(command);
+    follower.Service(clock_.NowS());
+    (void)follower.State();
+  }
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(HalFollowerSetupTest, HalFileWithoutTheFollowersSignalsIsANamedErrorAndLeavesNothing) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "robossis-threads-only.hal";
+  {
+    std::ofstream out(file);
+    out << "loadrt threads name1=servo-thread period1=1000000\nstart\n";
+  }
+  HalSession session(file);
+  const robot::RsrModel model = robot::RsrModel::Default();
+  try {
+    HalFollower follower(model, LoadHalConfig());
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("robossis-j0-pos-cmd"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(HalSession::Halcmd("list comp").find("robossis"), std::string::npos);
+  std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace robossis::drivers
