@@ -53,6 +53,7 @@ void ToWire(const teleop::SetPointMessage& m, robossis_msgs_msg_dds__SetPoint_& 
   w.twist.angular = {m.twist_F[3], m.twist_F[4], m.twist_F[5]};
   w.clutch = (m.flags & teleop::kSetPointClutched) != 0;
   w.presence = (m.flags & teleop::kSetPointPresence) != 0;
+  w.flags = m.flags;  // all bits, including those added after clutch and presence
 }
 
 void FromWire(const robossis_msgs_msg_dds__SetPoint_& w, teleop::SetPointMessage& m) noexcept {
@@ -62,7 +63,7 @@ void FromWire(const robossis_msgs_msg_dds__SetPoint_& w, teleop::SetPointMessage
   FromPose(w.pose, m.p_FM, m.q_FM);
   m.twist_F = {w.twist.linear.x, w.twist.linear.y, w.twist.linear.z,
                w.twist.angular.x, w.twist.angular.y, w.twist.angular.z};
-  m.flags = static_cast<std::uint8_t>((w.clutch ? teleop::kSetPointClutched : 0) |
+  m.flags = static_cast<std::uint8_t>(w.flags | (w.clutch ? teleop::kSetPointClutched : 0) |
                                       (w.presence ? teleop::kSetPointPresence : 0));
 }
 

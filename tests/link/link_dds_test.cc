@@ -272,3 +272,44 @@ TEST(Keys, InitMakesEveryCredentialWithPrivateKeysOwnerOnlyAndRefusesToOverwrite
 
 }  // namespace
 }  // namespace robossis::link
+
+namespace robossis::link {
+namespace {
+
+TEST(DdsLinkRestart, ARestartedLeaderIsANewSessionAndARestartedFollowerHearsTheLeaderAgain) {
+  rt::MonotonicClock clock;
+  auto follower = std::make_unique<DdsFollowerLink>(LoopbackOptions(Role::kFollower), clock);
+  auto leader = std::make_unique<DdsLeaderLink>(LoopbackOptions(Role::kLeader));
+  std::uint64_t seq = 0;
+  auto stream = [&](std::uint64_t session, std::uint64_t count) {
+    const std::uint64_t target = follower->Statistics().setpoints_accepted + count;
+    return WaitFor([&] {
+      leader->SendSetPoint(MakeSetPoint(session, ++seq, NowNs(clock)));
+      return follower->Statistics().setpoints_accepted >= target;
+    });
+  };
+  ASSERT_TRUE(stream(1, 10));
+  // The leader process goes away (its participant with it) and a new one starts: a new session, from sequence 1.
+  leader.reset();
+  leader = std::make_unique<DdsLeaderLink>(LoopbackOptions(Role::kLeader));
+  seq = 0;
+  ASSERT_TRUE(stream(2, 10));
+  teleop::SetPointMessage m;
+  std::int64_t arrival = 0;
+  ASSERT_TRUE(WaitFor([&] { return follower->TakeSetPoint(m, arrival) && m.leader_session == 2; }));
+  // The follower goes away and comes back while the leader keeps sending.
+  follower.reset();
+  follower = std::make_unique<DdsFollowerLink>(LoopbackOptions(Role::kFollower), clock);
+  ASSERT_TRUE(stream(2, 10));
+  // ... and an old session replayed after the restart is refused once the new one runs.
+  ASSERT_TRUE(stream(3, 5));
+  const auto before = follower->Statistics();
+  for (int i = 0; i < 10; ++i) {
+    leader->SendSetPoint(MakeSetPoint(2, ++seq, NowNs(clock)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(WaitFor([&] { return follower->Statistics().dropped_session > before.dropped_session; }));
+}
+
+}  // namespace
+}  // namespace robossis::link

@@ -111,7 +111,7 @@ TEST(WireConvert, SetPointRoundTripsAndQuaternionIsReorderedForRos) {
   teleop::SetPointMessage m = At(0xABCDEF, 42, -5);
   m.q_FM = {0.5, 0.5, -0.5, 0.5};
   m.twist_F = {1, 2, 3, 4, 5, 6};
-  m.flags = teleop::kSetPointClutched;
+  m.flags = teleop::kSetPointClutched | (1u << 5);  // a flag bit the wire has no boolean for still travels
   robossis_msgs_msg_dds__SetPoint_ w{};
   ToWire(m, w);
   EXPECT_EQ(w.pose.orientation.w, 0.5);
