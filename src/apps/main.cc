@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   apps::RegisterTrackEvalCommand(app, context);
   apps::RegisterTransferCommands(app, context);
   apps::RegisterHalCommands(app, context);
+  apps::RegisterKeysCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,147 @@
+#include "src/link/dds_entities.h"
+
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <stdexcept>
+
+#include "robossis_link.h"
+
+namespace robossis::link {
+
+const char* TopicName(Topic topic) {
+  switch (topic) {
+    case Topic::kSetPoint: return "setpoint";
+    case Topic::kStateCommand: return "state_command";
+    case Topic::kMeasuredCp: return "measured_cp";
+    case Topic::kMeasuredJs: return "measured_js";
+    case Topic::kOperatingState: return "operating_state";
+  }
+  return "?";
+}
+
+std::string WireTopicName(const LinkOptions& options, Topic topic) {
+  return "rt/" + options.topic_namespace + "/" + TopicName(topic);
+}
+
+namespace {
+const dds_topic_descriptor_t* Descriptor(Topic topic) {
+  switch (topic) {
+    case Topic::kSetPoint: return &robossis_msgs_msg_dds__SetPoint__desc;
+    case Topic::kStateCommand: return &robossis_msgs_msg_dds__StateCommand__desc;
+    case Topic::kMeasuredCp: return &geometry_msgs_msg_dds__PoseStamped__desc;
+    case Topic::kMeasuredJs: return &sensor_msgs_msg_dds__JointState__desc;
+    case Topic::kOperatingState: return &robossis_msgs_msg_dds__OperatingState__desc;
+  }
+  return nullptr;
+}
+dds_duration_t Seconds(double s) { return static_cast<dds_duration_t>(s * 1e9); }
+}  // namespace
+
+dds_qos_t* CreateTopicQos(Topic topic, const LinkTuning& tuning) {
+  dds_qos_t* q = dds_create_qos();
+  switch (topic) {
+    case Topic::kSetPoint:
+      // A 1 kHz stream: only the newest value matters and a repair would arrive after the next sample.
+      dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
+      dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      dds_qset_deadline(q, Seconds(tuning.setpoint_deadline_s));
+      dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC, Seconds(tuning.liveliness_lease_s));
+      break;
+    case Topic::kMeasuredCp:
+    case Topic::kMeasuredJs:
+      // Streams at the follower's status rate: newest value only, as for set-points.
+      dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
+      dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      break;
+    case Topic::kStateCommand:
+      // Every command counts (an E-stop must not be lost); an old command must not act on a late joiner.
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, Seconds(0.1));
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 32);
+      dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      break;
+    case Topic::kOperatingState:
+      // A late joiner (restarted leader, a panel) needs the last state at once.
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, Seconds(0.1));
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
+      dds_qset_durability(q, DDS_DURABILITY_TRANSIENT_LOCAL);
+      break;
+  }
+  return q;
+}
+
+dds_entity_t Check(dds_entity_t rc, const char* what) {
+  if (rc < 0) throw std::runtime_error(std::string(what) + ": " + dds_strretcode(rc));
+  return rc;
+}
+
+int NextLocalDomainId() {
+  // Local ids only name the domain inside this process; the wire uses LinkOptions::domain_id.
+  static std::atomic<int> next{0};
+  return 100 + next.fetch_add(1) % 130;
+}
+
+DdsParticipant::DdsParticipant(const LinkOptions& options) : options_(options) {
+  const auto properties = SecurityProperties(options);  // throws on missing credentials, before any DDS entity
+  const int local = NextLocalDomainId();
+  const std::string config = BuildCycloneConfig(options, local);
+  domain_ = Check(dds_create_domain(static_cast<dds_domainid_t>(local), config.c_str()), "DDS domain");
+  dds_qos_t* qos = dds_create_qos();
+  for (const auto& [name, value] : properties) dds_qset_prop(qos, name.c_str(), value.c_str());
+  participant_ = dds_create_participant(static_cast<dds_domainid_t>(local), qos, nullptr);
+  dds_delete_qos(qos);
+  if (participant_ < 0) {
+    const dds_entity_t rc = participant_;
+    dds_delete(domain_);
+    Check(rc, options.insecure ? "DDS participant" : "DDS participant (the credentials were refused)");
+  }
+}
+
+DdsParticipant::~DdsParticipant() {
+  if (participant_ > 0) dds_delete(participant_);
+  if (domain_ > 0) dds_delete(domain_);
+}
+
+dds_entity_t DdsParticipant::TopicHandle(Topic topic) {
+  dds_entity_t& t = topics_[static_cast<int>(topic)];
+  if (t == 0) {
+    const std::string name = WireTopicName(options_, topic);
+    t = Check(dds_create_topic(participant_, Descriptor(topic), name.c_str(), nullptr, nullptr), name.c_str());
+  }
+  return t;
+}
+
+dds_entity_t DdsParticipant::CreateWriter(Topic topic) {
+  dds_qos_t* q = CreateTopicQos(topic, options_.tuning);
+  const dds_entity_t w = dds_create_writer(participant_, TopicHandle(topic), q, nullptr);
+  dds_delete_qos(q);
+  return Check(w, (std::string("writer ") + WireTopicName(options_, topic)).c_str());
+}
+
+dds_entity_t DdsParticipant::CreateReader(Topic topic) {
+  dds_qos_t* q = CreateTopicQos(topic, options_.tuning);
+  const dds_entity_t r = dds_create_reader(participant_, TopicHandle(topic), q, nullptr);
+  dds_delete_qos(q);
+  Check(r, (std::string("reader ") + WireTopicName(options_, topic)).c_str());
+  Check(dds_set_status_mask(r, DDS_DATA_AVAILABLE_STATUS), "reader status mask");
+  return r;
+}
+
+WakeSignal::WakeSignal() : fd_(eventfd(0, EFD_CLOEXEC)) {
+  if (fd_ < 0) throw std::runtime_error("eventfd failed");
+}
+WakeSignal::~WakeSignal() { close(fd_); }
+void WakeSignal::Notify() noexcept {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = write(fd_, &one, sizeof one);
+}
+void WakeSignal::Wait() noexcept {
+  std::uint64_t value = 0;
+  while (read(fd_, &value, sizeof value) < 0 && errno == EINTR) {
+  }
+}
+
+}  // namespace robossis::link

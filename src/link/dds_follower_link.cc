@@ -1,0 +1,208 @@
+#include "src/link/dds_follower_link.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "robossis_link.h"
+#include "src/link/setpoint_validation.h"
+#include "src/link/wire_convert.h"
+
+namespace robossis::link {
+
+namespace {
+std::int64_t Ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+constexpr char kFrameId[] = "rsr_fixed_ring";
+constexpr const char* kJointNames[6] = {"theta1", "theta2", "theta3", "d1", "d2", "d3"};
+}  // namespace
+
+DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& clock)
+    : options_(options),
+      clock_(clock),
+      dds_(options),
+      setpoint_reader_(dds_.CreateReader(Topic::kSetPoint)),
+      command_reader_(dds_.CreateReader(Topic::kStateCommand)),
+      cp_writer_(dds_.CreateWriter(Topic::kMeasuredCp)),
+      js_writer_(dds_.CreateWriter(Topic::kMeasuredJs)),
+      state_writer_(dds_.CreateWriter(Topic::kOperatingState)),
+      freshness_(Ns(options.tuning.setpoint_max_age_s), Ns(options.tuning.session_takeover_s),
+                 options.tuning.clock_drift_allowance) {
+  if (options.role != Role::kFollower) throw std::runtime_error("DdsFollowerLink: the role must be follower");
+  Check(dds_set_status_mask(setpoint_reader_, DDS_DATA_AVAILABLE_STATUS | DDS_REQUESTED_DEADLINE_MISSED_STATUS |
+                                                  DDS_LIVELINESS_CHANGED_STATUS),
+        "set-point reader status mask");
+  waitset_ = Check(dds_create_waitset(dds_.participant()), "waitset");
+  stop_guard_ = Check(dds_create_guardcondition(dds_.participant()), "guard condition");
+  Check(dds_waitset_attach(waitset_, setpoint_reader_, setpoint_reader_), "waitset attach");
+  Check(dds_waitset_attach(waitset_, command_reader_, command_reader_), "waitset attach");
+  Check(dds_waitset_attach(waitset_, stop_guard_, stop_guard_), "waitset attach");
+  receive_thread_ = std::thread([this] { ReceiveLoop(); });
+  send_thread_ = std::thread([this] { SendLoop(); });
+}
+
+DdsFollowerLink::~DdsFollowerLink() {
+  stop_.store(true, std::memory_order_release);
+  dds_set_guardcondition(stop_guard_, true);
+  status_wake_.Notify();
+  receive_thread_.join();
+  send_thread_.join();
+}
+
+bool DdsFollowerLink::TakeSetPoint(teleop::SetPointMessage& message, std::int64_t& arrival_ns) noexcept {
+  const std::uint64_t version = setpoint_.version();
+  if (version == setpoint_version_taken_) return false;
+  SetPointArrival a;
+  if (!setpoint_.Read(a)) return false;
+  setpoint_version_taken_ = version;
+  message = a.message;
+  arrival_ns = a.arrival_ns;
+  return true;
+}
+
+bool DdsFollowerLink::TakeCommand(teleop::StateCommandMessage& message) noexcept { return commands_.TryPop(message); }
+
+void DdsFollowerLink::PublishStatus(const teleop::FollowerStatusMessage& message) noexcept {
+  status_.Publish(message);
+  status_wake_.Notify();
+}
+
+FollowerLinkStatistics DdsFollowerLink::Statistics() const noexcept {
+  FollowerLinkStatistics s;
+  s.setpoints_received = counters_.received.load();
+  s.setpoints_accepted = counters_.accepted.load();
+  s.dropped_stale = counters_.stale.load();
+  s.dropped_replayed = counters_.replayed.load();
+  s.dropped_session = counters_.session.load();
+  s.rejected_invalid = counters_.invalid.load();
+  s.commands_received = counters_.commands.load();
+  s.commands_dropped = counters_.commands_dropped.load();
+  s.status_published = counters_.status.load();
+  s.deadline_missed = counters_.deadline.load();
+  s.leaders_alive = counters_.alive.load();
+  return s;
+}
+
+void DdsFollowerLink::ReceiveLoop() {
+  dds_attach_t triggered[4];
+  while (!stop_.load(std::memory_order_acquire)) {
+    const dds_return_t n = dds_waitset_wait(waitset_, triggered, 4, DDS_MSECS(100));
+    if (stop_.load(std::memory_order_acquire)) break;
+    if (n < 0) continue;
+    TakeSetPoints();
+    TakeCommands();
+    ReadStatuses();
+  }
+}
+
+void DdsFollowerLink::TakeSetPoints() {
+  constexpr int kBatch = 16;
+  robossis_msgs_msg_dds__SetPoint_ samples[kBatch];
+  void* buffers[kBatch];
+  dds_sample_info_t infos[kBatch];
+  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
+  for (;;) {
+    const dds_return_t n = dds_take(setpoint_reader_, buffers, infos, kBatch, kBatch);
+    if (n <= 0) return;
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const std::int64_t arrival = Ns(clock_.NowS());
+      counters_.received.fetch_add(1, std::memory_order_relaxed);
+      SetPointArrival a;
+      FromWire(samples[i], a.message);
+      a.arrival_ns = arrival;
+      if (!IsSaneSetPoint(a.message, options_.tuning, nullptr)) {
+        counters_.invalid.fetch_add(1, std::memory_order_relaxed);
+        continue;
+      }
+      switch (freshness_.Check(a.message, arrival)) {
+        case Freshness::kAccepted:
+          setpoint_.Publish(a);
+          counters_.accepted.fetch_add(1, std::memory_order_relaxed);
+          break;
+        case Freshness::kStale: counters_.stale.fetch_add(1, std::memory_order_relaxed); break;
+        case Freshness::kReplayed: counters_.replayed.fetch_add(1, std::memory_order_relaxed); break;
+        case Freshness::kRetiredSession:
+        case Freshness::kConcurrentSession: counters_.session.fetch_add(1, std::memory_order_relaxed); break;
+      }
+    }
+  }
+}
+
+void DdsFollowerLink::TakeCommands() {
+  constexpr int kBatch = 8;
+  void* samples[kBatch] = {};
+  dds_sample_info_t infos[kBatch];
+  for (;;) {
+    const dds_return_t n = dds_take(command_reader_, samples, infos, kBatch, kBatch);  // loaned samples
+    if (n <= 0) return;
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      counters_.commands.fetch_add(1, std::memory_order_relaxed);
+      const auto* w = static_cast<const robossis_msgs_msg_dds__StateCommand_*>(samples[i]);
+      teleop::StateCommandMessage m;
+      if (!ParseCommandName(w->command, m.command)) {
+        counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
+        continue;
+      }
+      m.sequence = w->seq;
+      m.stamp_ns = w->stamp_ns;
+      m.source = w->source;
+      if (!commands_.TryPush(m)) counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
+    }
+    dds_return_loan(command_reader_, samples, n);
+  }
+}
+
+void DdsFollowerLink::ReadStatuses() {
+  dds_requested_deadline_missed_status_t deadline;
+  if (dds_get_requested_deadline_missed_status(setpoint_reader_, &deadline) == DDS_RETCODE_OK) {
+    counters_.deadline.store(deadline.total_count, std::memory_order_relaxed);
+  }
+  dds_liveliness_changed_status_t liveliness;
+  if (dds_get_liveliness_changed_status(setpoint_reader_, &liveliness) == DDS_RETCODE_OK) {
+    counters_.alive.store(liveliness.alive_count, std::memory_order_relaxed);
+  }
+}
+
+void DdsFollowerLink::SendLoop() {
+  char frame_id[sizeof kFrameId];
+  std::copy(kFrameId, kFrameId + sizeof kFrameId, frame_id);
+  char* names[6];
+  for (int i = 0; i < 6; ++i) names[i] = const_cast<char*>(kJointNames[i]);
+  std::uint64_t version_sent = 0;
+  std::int64_t last_state_ns = 0;
+  bool have_state = false;
+  teleop::OperatingState last_state = teleop::OperatingState::kDisabled;
+  teleop::FaultReason last_reason = teleop::FaultReason::kNone;
+  while (true) {
+    status_wake_.Wait();
+    if (stop_.load(std::memory_order_acquire)) break;
+    const std::uint64_t version = status_.version();
+    teleop::FollowerStatusMessage m;
+    if (version == version_sent || !status_.Read(m)) continue;
+    version_sent = version;
+    geometry_msgs_msg_dds__PoseStamped_ cp{};
+    ToMeasuredCp(m, frame_id, cp);
+    dds_write(cp_writer_, &cp);
+    sensor_msgs_msg_dds__JointState_ js{};
+    js.header = cp.header;
+    js.name = {6, 6, names, false};
+    js.position = {6, 6, m.joints.data(), false};
+    js.velocity = {0, 0, nullptr, false};
+    js.effort = {6, 6, m.effort.data(), false};
+    dds_write(js_writer_, &js);
+    const std::int64_t now = rt::MonotonicNowNs();
+    if (!have_state || m.state != last_state || m.fault_reason != last_reason ||
+        now - last_state_ns >= Ns(options_.tuning.status_state_period_s)) {
+      robossis_msgs_msg_dds__OperatingState_ st{};
+      ToOperatingState(m, frame_id, st);
+      dds_write(state_writer_, &st);
+      have_state = true;
+      last_state = m.state;
+      last_reason = m.fault_reason;
+      last_state_ns = now;
+    }
+    counters_.status.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+}  // namespace robossis::link

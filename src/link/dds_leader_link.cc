@@ -1,0 +1,143 @@
+#include "src/link/dds_leader_link.h"
+
+#include <stdexcept>
+
+#include "robossis_link.h"
+#include "src/link/wire_convert.h"
+
+namespace robossis::link {
+
+DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dds_(options) {
+  if (options.role == Role::kFollower) throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
+  // A panel holds no set-point permission: it gets no set-point writer (and could not create one).
+  if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);
+  command_writer_ = dds_.CreateWriter(Topic::kStateCommand);
+  cp_reader_ = dds_.CreateReader(Topic::kMeasuredCp);
+  js_reader_ = dds_.CreateReader(Topic::kMeasuredJs);
+  state_reader_ = dds_.CreateReader(Topic::kOperatingState);
+  waitset_ = Check(dds_create_waitset(dds_.participant()), "waitset");
+  stop_guard_ = Check(dds_create_guardcondition(dds_.participant()), "guard condition");
+  for (dds_entity_t e : {cp_reader_, js_reader_, state_reader_, stop_guard_}) {
+    Check(dds_waitset_attach(waitset_, e, e), "waitset attach");
+  }
+  receive_thread_ = std::thread([this] { ReceiveLoop(); });
+  send_thread_ = std::thread([this] { SendLoop(); });
+}
+
+DdsLeaderLink::~DdsLeaderLink() {
+  stop_.store(true, std::memory_order_release);
+  dds_set_guardcondition(stop_guard_, true);
+  send_wake_.Notify();
+  receive_thread_.join();
+  send_thread_.join();
+}
+
+void DdsLeaderLink::SendSetPoint(const teleop::SetPointMessage& message) noexcept {
+  setpoint_.Publish(message);
+  send_wake_.Notify();
+}
+
+bool DdsLeaderLink::SendCommand(const teleop::StateCommandMessage& message) noexcept {
+  if (!commands_.TryPush(message)) {
+    counters_.refused.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  send_wake_.Notify();
+  return true;
+}
+
+bool DdsLeaderLink::TakeFollowerStatus(teleop::FollowerStatusMessage& message) noexcept {
+  const std::uint64_t version = status_.version();
+  if (version == status_version_taken_) return false;
+  if (!status_.Read(message)) return false;
+  status_version_taken_ = version;
+  return true;
+}
+
+LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
+  LeaderLinkStatistics s;
+  s.setpoints_sent = counters_.setpoints.load();
+  s.commands_sent = counters_.commands.load();
+  s.commands_refused = counters_.refused.load();
+  s.status_received = counters_.status.load();
+  s.state_received = counters_.state.load();
+  if (setpoint_writer_ > 0) {
+    dds_publication_matched_status_t matched;
+    if (dds_get_publication_matched_status(setpoint_writer_, &matched) == DDS_RETCODE_OK) {
+      s.followers_matched = matched.current_count;
+    }
+  }
+  return s;
+}
+
+void DdsLeaderLink::SendLoop() {
+  std::uint64_t version_sent = 0;
+  char frame_id[] = "";
+  while (true) {
+    send_wake_.Wait();
+    if (stop_.load(std::memory_order_acquire)) break;
+    const std::uint64_t version = setpoint_.version();
+    teleop::SetPointMessage m;
+    if (setpoint_writer_ > 0 && version != version_sent && setpoint_.Read(m)) {
+      version_sent = version;
+      robossis_msgs_msg_dds__SetPoint_ w{};
+      ToWire(m, w);
+      if (dds_write(setpoint_writer_, &w) == DDS_RETCODE_OK) counters_.setpoints.fetch_add(1, std::memory_order_relaxed);
+    }
+    teleop::StateCommandMessage c;
+    while (commands_.TryPop(c)) {
+      robossis_msgs_msg_dds__StateCommand_ w{};
+      w.header.stamp = ToTime(c.stamp_ns);
+      w.header.frame_id = frame_id;
+      w.command = const_cast<char*>(CommandName(c.command));
+      w.seq = c.sequence;
+      w.stamp_ns = c.stamp_ns;
+      w.source = c.source;
+      if (dds_write(command_writer_, &w) == DDS_RETCODE_OK) counters_.commands.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+void DdsLeaderLink::ReceiveLoop() {
+  dds_attach_t triggered[4];
+  teleop::FollowerStatusMessage assembled;
+  constexpr int kBatch = 8;
+  void* samples[kBatch];
+  dds_sample_info_t infos[kBatch];
+  auto take = [&](dds_entity_t reader, auto&& apply) {
+    bool any = false;
+    for (;;) {
+      for (auto& s : samples) s = nullptr;
+      const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);  // loaned samples
+      if (n <= 0) return any;
+      for (int i = 0; i < n; ++i) {
+        if (infos[i].valid_data) {
+          apply(samples[i]);
+          any = true;
+        }
+      }
+      dds_return_loan(reader, samples, n);
+    }
+  };
+  while (!stop_.load(std::memory_order_acquire)) {
+    const dds_return_t n = dds_waitset_wait(waitset_, triggered, 4, DDS_MSECS(100));
+    if (stop_.load(std::memory_order_acquire)) break;
+    if (n <= 0) continue;
+    bool changed = take(js_reader_, [&](void* s) {
+      const auto* js = static_cast<const sensor_msgs_msg_dds__JointState_*>(s);
+      for (std::uint32_t i = 0; i < 6 && i < js->position._length; ++i) assembled.joints[i] = js->position._buffer[i];
+      for (std::uint32_t i = 0; i < 6 && i < js->effort._length; ++i) assembled.effort[i] = js->effort._buffer[i];
+    });
+    changed |= take(state_reader_, [&](void* s) {
+      FromOperatingState(*static_cast<const robossis_msgs_msg_dds__OperatingState_*>(s), assembled);
+      counters_.state.fetch_add(1, std::memory_order_relaxed);
+    });
+    changed |= take(cp_reader_, [&](void* s) {
+      FromMeasuredCp(*static_cast<const geometry_msgs_msg_dds__PoseStamped_*>(s), assembled);
+      counters_.status.fetch_add(1, std::memory_order_relaxed);
+    });
+    if (changed) status_.Publish(assembled);
+  }
+}
+
+}  // namespace robossis::link

@@ -1,0 +1,57 @@
+#pragma once
+// The leader's end of the link over Cyclone DDS (teleop::LeaderLink).
+//
+// Threads: the real-time caller only touches lock-free structures (src/core/rt): SendSetPoint writes a snapshot and
+// wakes the send thread (an eventfd write), SendCommand pushes a queue, TakeFollowerStatus reads a snapshot. The send
+// thread writes the newest set-point and the queued commands; a receive thread takes measured_cp, measured_js and
+// operating_state and assembles the follower's status. DDS is never called on the caller's thread.
+
+#include <atomic>
+#include <thread>
+
+#include "src/core/rt/snapshot.h"
+#include "src/core/rt/spsc_queue.h"
+#include "src/link/dds_entities.h"
+#include "src/link/link_statistics.h"
+#include "src/teleop/link.h"
+
+namespace robossis::link {
+
+class DdsLeaderLink final : public teleop::LeaderLink {
+ public:
+  // Joins the network (options.role must be kLeader or kPanel: a panel sends commands and watches).
+  // Throws std::runtime_error on bad options or refused credentials.
+  explicit DdsLeaderLink(const LinkOptions& options);
+  ~DdsLeaderLink() override;
+
+  void SendSetPoint(const teleop::SetPointMessage& message) noexcept override;
+  bool TakeFollowerStatus(teleop::FollowerStatusMessage& message) noexcept override;
+  bool SendCommand(const teleop::StateCommandMessage& message) noexcept override;
+
+  LeaderLinkStatistics Statistics() const noexcept;
+
+ private:
+  void ReceiveLoop();
+  void SendLoop();
+
+  LinkOptions options_;
+  DdsParticipant dds_;
+  dds_entity_t setpoint_writer_ = 0, command_writer_ = 0;
+  dds_entity_t cp_reader_ = 0, js_reader_ = 0, state_reader_ = 0;
+  dds_entity_t waitset_ = 0, stop_guard_ = 0;
+
+  rt::Snapshot<teleop::SetPointMessage> setpoint_;
+  rt::SpscQueue<teleop::StateCommandMessage> commands_{64};
+  WakeSignal send_wake_;
+  rt::Snapshot<teleop::FollowerStatusMessage> status_;
+  std::uint64_t status_version_taken_ = 0;  // caller's thread only
+
+  std::atomic<bool> stop_{false};
+  struct Counters {
+    std::atomic<std::uint64_t> setpoints{0}, commands{0}, refused{0}, status{0}, state{0};
+    std::atomic<std::uint32_t> matched{0};
+  } counters_;
+  std::thread receive_thread_, send_thread_;
+};
+
+}  // namespace robossis::link

@@ -1,0 +1,188 @@
+#include "src/link/keys.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <stdexcept>
+
+#include "src/core/files.h"
+#include "src/link/dds_entities.h"
+
+extern char** environ;
+
+namespace robossis::link {
+
+namespace {
+
+constexpr Role kRoles[] = {Role::kLeader, Role::kFollower, Role::kPanel};
+
+// Runs `openssl args...` in `dir`, stdout and stderr to `log`. Throws naming the step on failure.
+void RunOpenssl(const std::vector<std::string>& args, const std::filesystem::path& dir,
+                const std::filesystem::path& log, const std::string& step) {
+  std::vector<std::string> full = {"openssl"};
+  full.insert(full.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : full) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, "openssl", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error("keys init: cannot run openssl (install the openssl package)");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::string detail = ReadTextFile(log);
+    while (!detail.empty() && (detail.back() == '\n' || detail.back() == '\r')) detail.pop_back();
+    const auto nl = detail.rfind('\n');
+    if (nl != std::string::npos) detail = detail.substr(nl + 1);
+    throw std::runtime_error("keys init: openssl failed to " + step + ": " + detail);
+  }
+}
+
+std::string IsoUtc(std::chrono::system_clock::time_point t) {
+  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  return buf;
+}
+
+std::string TopicList(const std::vector<std::string>& topics) {
+  std::string x = "<topics>";
+  for (const auto& t : topics) x += "<topic>" + t + "</topic>";
+  return x + "</topics>";
+}
+
+}  // namespace
+
+RoleTopics TopicsOf(Role role, const std::string& ns) {
+  LinkOptions o;
+  o.topic_namespace = ns;
+  auto n = [&](Topic t) { return WireTopicName(o, t); };
+  const std::vector<std::string> status = {n(Topic::kMeasuredCp), n(Topic::kMeasuredJs), n(Topic::kOperatingState)};
+  switch (role) {
+    case Role::kLeader: return {{n(Topic::kSetPoint), n(Topic::kStateCommand)}, status};
+    case Role::kFollower: return {status, {n(Topic::kSetPoint), n(Topic::kStateCommand)}};
+    case Role::kPanel: return {{n(Topic::kStateCommand)}, status};
+  }
+  return {};
+}
+
+std::string GovernanceXml() {
+  // Unauthenticated participants are refused; discovery, liveliness, the RTPS messages and every topic's data are
+  // encrypted (AES-GCM: encrypted and authenticated); reads and writes are access-controlled per topic.
+  return R"(<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
+  <domain_access_rules>
+    <domain_rule>
+      <domains><id_range><min>0</min><max>230</max></id_range></domains>
+      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
+      <enable_join_access_control>true</enable_join_access_control>
+      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
+      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
+      <rtps_protection_kind>ENCRYPT</rtps_protection_kind>
+      <topic_access_rules>
+        <topic_rule>
+          <topic_expression>*</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>true</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>ENCRYPT</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+      </topic_access_rules>
+    </domain_rule>
+  </domain_access_rules>
+</dds>
+)";
+}
+
+std::string PermissionsXml(Role role, const std::string& subject_name, const std::string& ns,
+                           const std::string& not_before, const std::string& not_after) {
+  const RoleTopics topics = TopicsOf(role, ns);
+  std::string x = R"(<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name=")";
+  x += std::string(ToString(role)) + "_grant\">\n      <subject_name>" + subject_name + "</subject_name>\n";
+  x += "      <validity><not_before>" + not_before + "</not_before><not_after>" + not_after + "</not_after></validity>\n";
+  x += "      <allow_rule>\n        <domains><id_range><min>0</min><max>230</max></id_range></domains>\n";
+  x += "        <publish>" + TopicList(topics.publish) + "</publish>\n";
+  x += "        <subscribe>" + TopicList(topics.subscribe) + "</subscribe>\n";
+  x += "      </allow_rule>\n      <default>DENY</default>\n    </grant>\n  </permissions>\n</dds>\n";
+  return x;
+}
+
+void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) {
+  if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir)) {
+    throw std::runtime_error("keys init: " + dir.string() + " is not empty (refusing to overwrite credentials)");
+  }
+  StagedOutputDir out(dir);
+  const std::filesystem::path s = out.staging();
+  std::filesystem::permissions(s, std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
+  const std::filesystem::path log = s / "openssl.log";
+  const std::string days = std::to_string(options.validity_days);
+  const std::string org = options.organisation;
+  const std::vector<std::string> ec = {"-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes"};
+
+  auto with = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  RunOpenssl(with(with({"req", "-x509"}, ec), {"-keyout", "ca_key.pem", "-out", "ca_cert.pem", "-days", days, "-subj",
+                                                "/C=US/O=" + org + "/CN=" + org + " link CA", "-sha256"}),
+             s, log, "make the CA");
+  const auto now = std::chrono::system_clock::now();
+  const std::string not_before = IsoUtc(now - std::chrono::hours(24));
+  const std::string not_after = IsoUtc(now + std::chrono::hours(24) * options.validity_days);
+  out.Write("governance.xml", GovernanceXml());
+  RunOpenssl({"smime", "-sign", "-in", "governance.xml", "-text", "-out", "governance.p7s", "-signer", "ca_cert.pem",
+              "-inkey", "ca_key.pem"},
+             s, log, "sign the governance");
+  int serial = 1;
+  for (Role role : kRoles) {
+    const std::string r = ToString(role);
+    RunOpenssl(with(with({"req"}, ec), {"-keyout", r + "_key.pem", "-out", r + ".csr", "-subj",
+                                        "/C=US/O=" + org + "/CN=" + r}),
+               s, log, "make the " + r + " key");
+    RunOpenssl({"x509", "-req", "-in", r + ".csr", "-CA", "ca_cert.pem", "-CAkey", "ca_key.pem", "-set_serial",
+                std::to_string(++serial), "-out", r + "_cert.pem", "-days", days, "-sha256"},
+               s, log, "sign the " + r + " certificate");
+    std::filesystem::remove(s / (r + ".csr"));
+    RunOpenssl({"x509", "-in", r + "_cert.pem", "-noout", "-subject", "-nameopt", "RFC2253"}, s, log,
+               "read the " + r + " subject");
+    std::string subject = ReadTextFile(log);
+    while (!subject.empty() && (subject.back() == '\n' || subject.back() == '\r')) subject.pop_back();
+    if (subject.rfind("subject=", 0) == 0) subject = subject.substr(8);
+    out.Write(r + "_permissions.xml", PermissionsXml(role, subject, options.topic_namespace, not_before, not_after));
+    RunOpenssl({"smime", "-sign", "-in", r + "_permissions.xml", "-text", "-out", r + "_permissions.p7s", "-signer",
+                "ca_cert.pem", "-inkey", "ca_key.pem"},
+               s, log, "sign the " + r + " permissions");
+  }
+  std::filesystem::remove(log);
+  for (const auto& entry : std::filesystem::directory_iterator(s)) {
+    const bool secret = entry.path().filename().string().find("_key.pem") != std::string::npos;
+    std::filesystem::permissions(entry.path(),
+                                 secret ? std::filesystem::perms::owner_read | std::filesystem::perms::owner_write
+                                        : std::filesystem::perms::owner_read | std::filesystem::perms::owner_write |
+                                              std::filesystem::perms::group_read | std::filesystem::perms::others_read,
+                                 std::filesystem::perm_options::replace);
+  }
+  out.Commit();
+  std::filesystem::permissions(dir, std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
+}
+
+}  // namespace robossis::link

@@ -1,0 +1,38 @@
+#pragma once
+// The credentials of the secured link (DDS Security: authentication, access control, cryptography), made with the
+// `openssl` command line: one CA (identity and permissions CA), an identity certificate and key for the leader, the
+// follower and the control panel, a signed governance document that authenticates and encrypts everything, and a
+// signed permissions document per participant that grants it only its own topics. Private keys are mode 0600 and
+// the folder 0700.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "src/link/link_options.h"
+
+namespace robossis::link {
+
+struct KeysInitOptions {
+  std::string topic_namespace = "rsr";  // must match LinkOptions::topic_namespace of the participants
+  int validity_days = 3650;
+  std::string organisation = "Robossis";
+};
+
+// The topics each role may publish and subscribe to (wire names), as the permissions grant them.
+struct RoleTopics {
+  std::vector<std::string> publish;
+  std::vector<std::string> subscribe;
+};
+RoleTopics TopicsOf(Role role, const std::string& topic_namespace);
+
+// The governance and permissions documents (unsigned XML), exposed for tests and inspection.
+std::string GovernanceXml();
+std::string PermissionsXml(Role role, const std::string& subject_name, const std::string& topic_namespace,
+                           const std::string& not_before, const std::string& not_after);
+
+// Makes the credentials in `dir` (which must not exist or be empty). Everything is made in a staging folder and
+// moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
+void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
+
+}  // namespace robossis::link

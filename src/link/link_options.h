@@ -1,0 +1,65 @@
+#pragma once
+// How a link end joins the network: the DDS domain, the network interface, the discovery peers, its credentials,
+// and the link's timing assumptions (data/config/link.yaml). Everything here is decided before the link starts;
+// nothing is read from it on a real-time path.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace robossis::link {
+
+// The three kinds of participant that hold credentials (`robossis keys init` makes one identity for each).
+enum class Role { kLeader, kFollower, kPanel };
+const char* ToString(Role role);
+
+// Timing and sanity bounds of the link (data/config/link.yaml, every value [assumed] there).
+struct LinkTuning {
+  double setpoint_max_age_s = 0.030;         // older set-points are dropped (the follower's 30 ms watchdog)
+  double session_takeover_s = 0.030;         // silence of the current leader before a new leader session is taken
+  double setpoint_deadline_s = 0.010;        // DDS deadline QoS on the set-point topic (10 missed 1 kHz ticks)
+  double liveliness_lease_s = 0.100;         // DDS liveliness lease of the set-point writer
+  double clock_drift_allowance = 1e-4;       // relative drift between the two units' clocks the age estimate absorbs
+  double max_position_m = 1.0;               // |p_FM| bound of a sane set-point (the RSR's reach is ~0.3 m)
+  double max_linear_speed_m_per_s = 1.0;     // |v| bound of a sane set-point twist
+  double max_angular_speed_rad_per_s = 10.0; // |omega| bound
+  double quaternion_norm_tolerance = 1e-3;   // | |q| - 1 | bound
+  double status_state_period_s = 0.100;      // operating_state is also re-sent at this period (its counters move)
+
+  static LinkTuning FromYaml(const std::filesystem::path& file);
+};
+
+struct LinkOptions {
+  Role role = Role::kLeader;
+  // The DDS domain on the wire (ports 7400 + 250·domain + …). Participants must agree on it.
+  int domain_id = 42;
+  // The network interface to use: an address ("127.0.0.1", "192.168.10.2") or an interface name ("eth1").
+  std::string network_interface = "127.0.0.1";
+  // Unicast discovery peers (addresses, optionally "address:port"). Empty: multicast discovery on the interface.
+  std::vector<std::string> peers = {"127.0.0.1"};
+  // Fixed participant index (ports 7410 + 250·domain + 2·index and +1), or -1 for the first free one.
+  int participant_index = -1;
+  int max_auto_participant_index = 20;
+  // The address advertised to the peers instead of the interface's (a relay or NAT in between); empty: none.
+  std::string external_address;
+  // Credentials made by `robossis keys init DIR`; empty and insecure = false is an error.
+  std::filesystem::path keys_dir;
+  bool insecure = false;  // a lab bench without DDS Security (the caller says so loudly)
+  // Topics are rt/<namespace>/<name> (ROS 2's "rt/" prefix for topics).
+  std::string topic_namespace = "rsr";
+  LinkTuning tuning;
+};
+
+// The Cyclone DDS configuration (XML) of one link end. `local_domain_id` is this process's domain, mapped onto
+// options.domain_id on the wire (so two ends can live in one process, as the tests do).
+std::string BuildCycloneConfig(const LinkOptions& options, int local_domain_id);
+
+// The DDS Security participant properties (name, value) for the role's credentials in options.keys_dir.
+// Throws std::runtime_error naming the missing file. Empty when options.insecure.
+std::vector<std::pair<std::string, std::string>> SecurityProperties(const LinkOptions& options);
+
+// Where the DDS Security plugins are (Debian ships them in libddsc0debian/, outside the loader's path).
+std::filesystem::path SecurityPluginDir();
+
+}  // namespace robossis::link

@@ -1,0 +1,175 @@
+// The link's pure logic: set-point freshness, the sanity check, the wire mapping, the permissions documents.
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "src/link/keys.h"
+#include "src/link/setpoint_freshness.h"
+#include "src/link/setpoint_validation.h"
+#include "src/link/wire_convert.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::link {
+namespace {
+
+constexpr std::int64_t kMs = 1000000;
+
+teleop::SetPointMessage At(std::uint64_t session, std::uint64_t seq, std::int64_t stamp_ns) {
+  teleop::SetPointMessage m;
+  m.leader_session = session;
+  m.sequence = seq;
+  m.stamp_ns = stamp_ns;
+  m.p_FM = {0.0, 0.0, 0.284};
+  return m;
+}
+
+SetPointFreshness Filter() { return SetPointFreshness(30 * kMs, 30 * kMs, 1e-4); }
+
+TEST(SetPointFreshness, AcceptsAnIncreasingStreamWithAClockOffset) {
+  auto f = Filter();
+  const std::int64_t offset = 123456789 * kMs;  // the two clocks share no epoch
+  for (std::uint64_t i = 1; i <= 100; ++i) {
+    EXPECT_EQ(f.Check(At(7, i, static_cast<std::int64_t>(i) * kMs), offset + static_cast<std::int64_t>(i) * kMs),
+              Freshness::kAccepted);
+  }
+}
+
+TEST(SetPointFreshness, DropsDuplicatesAndOlderSequences) {
+  auto f = Filter();
+  EXPECT_EQ(f.Check(At(7, 10, 10 * kMs), 10 * kMs), Freshness::kAccepted);
+  EXPECT_EQ(f.Check(At(7, 10, 10 * kMs), 11 * kMs), Freshness::kReplayed);
+  EXPECT_EQ(f.Check(At(7, 9, 9 * kMs), 11 * kMs), Freshness::kReplayed);
+  EXPECT_EQ(f.Check(At(7, 12, 12 * kMs), 12 * kMs), Freshness::kAccepted);
+  EXPECT_EQ(f.Check(At(7, 11, 11 * kMs), 12 * kMs), Freshness::kReplayed);  // reordered behind 12
+}
+
+TEST(SetPointFreshness, DropsASetPointDelayedBeyondTheAgeLimit) {
+  auto f = Filter();
+  EXPECT_EQ(f.Check(At(7, 1, 1 * kMs), 2 * kMs), Freshness::kAccepted);
+  EXPECT_EQ(f.Check(At(7, 2, 2 * kMs), 2 * kMs + 29 * kMs), Freshness::kAccepted);  // 29 ms late: still fresh
+  EXPECT_EQ(f.Check(At(7, 3, 3 * kMs), 3 * kMs + 32 * kMs), Freshness::kStale);     // 31 ms late
+  EXPECT_EQ(f.Check(At(7, 4, 40 * kMs), 41 * kMs), Freshness::kAccepted);
+}
+
+TEST(SetPointFreshness, AbsorbsSlowClockDrift) {
+  auto f = Filter();
+  // The follower's clock runs 50 ppm fast for 1000 s: 50 ms of drift, absorbed by the 100 ppm allowance.
+  for (std::int64_t i = 1; i <= 1000; ++i) {
+    const std::int64_t stamp = i * 1000 * kMs;
+    const std::int64_t arrival = stamp + stamp / 20000 + kMs;
+    ASSERT_EQ(f.Check(At(7, static_cast<std::uint64_t>(i), stamp), arrival), Freshness::kAccepted) << i;
+  }
+}
+
+TEST(SetPointFreshness, TakesANewSessionOnlyAfterTheOldOneWentSilentAndNeverGoesBack) {
+  auto f = Filter();
+  EXPECT_EQ(f.Check(At(1, 100, 100 * kMs), 100 * kMs), Freshness::kAccepted);
+  EXPECT_EQ(f.Check(At(2, 1, 5 * kMs), 110 * kMs), Freshness::kConcurrentSession);  // session 1 still talking
+  EXPECT_EQ(f.Check(At(2, 2, 6 * kMs), 131 * kMs), Freshness::kAccepted);          // 31 ms of silence
+  EXPECT_EQ(f.current_session(), 2u);
+  EXPECT_EQ(f.Check(At(1, 101, 101 * kMs), 200 * kMs), Freshness::kRetiredSession);  // a replay of the old leader
+  EXPECT_EQ(f.Check(At(2, 3, 7 * kMs), 132 * kMs), Freshness::kAccepted);
+}
+
+TEST(SetPointFreshness, CheckAllocatesNothing) {
+  auto f = Filter();
+  testing::AllocationCounter counter;
+  for (std::uint64_t i = 1; i <= 100; ++i) f.Check(At(3, i, static_cast<std::int64_t>(i) * kMs), static_cast<std::int64_t>(i) * kMs);
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(SetPointValidation, AcceptsASaneSetPointAndNamesTheFirstBadField) {
+  LinkTuning t;
+  teleop::SetPointMessage m = At(1, 1, 0);
+  const char* why = "unset";
+  EXPECT_TRUE(IsSaneSetPoint(m, t, &why));
+  EXPECT_EQ(why, nullptr);
+  m.p_FM[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(IsSaneSetPoint(m, t, &why));
+  EXPECT_STREQ(why, "p_FM not finite");
+  m = At(1, 1, 0);
+  m.p_FM[0] = 1e300;
+  EXPECT_FALSE(IsSaneSetPoint(m, t, &why));
+  EXPECT_STREQ(why, "p_FM beyond max_position_m");
+  m = At(1, 1, 0);
+  m.q_FM = {1, 0.2, 0, 0};
+  EXPECT_FALSE(IsSaneSetPoint(m, t, &why));
+  EXPECT_STREQ(why, "q_FM not a unit quaternion");
+  m = At(1, 1, 0);
+  m.twist_F[4] = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(IsSaneSetPoint(m, t, &why));
+  EXPECT_STREQ(why, "twist_F not finite");
+  m = At(1, 1, 0);
+  m.twist_F[2] = 5.0;
+  EXPECT_FALSE(IsSaneSetPoint(m, t, &why));
+  EXPECT_STREQ(why, "twist_F linear beyond max_linear_speed_m_per_s");
+}
+
+TEST(WireConvert, SetPointRoundTripsAndQuaternionIsReorderedForRos) {
+  teleop::SetPointMessage m = At(0xABCDEF, 42, -5);
+  m.q_FM = {0.5, 0.5, -0.5, 0.5};
+  m.twist_F = {1, 2, 3, 4, 5, 6};
+  m.flags = teleop::kSetPointClutched | (1u << 5);  // a flag bit the wire has no boolean for still travels
+  robossis_msgs_msg_dds__SetPoint_ w{};
+  ToWire(m, w);
+  EXPECT_EQ(w.pose.orientation.w, 0.5);
+  EXPECT_EQ(w.pose.orientation.y, -0.5);
+  EXPECT_TRUE(w.clutch);
+  EXPECT_FALSE(w.presence);
+  teleop::SetPointMessage back;
+  FromWire(w, back);
+  EXPECT_EQ(back.sequence, 42u);
+  EXPECT_EQ(back.leader_session, 0xABCDEFu);
+  EXPECT_EQ(back.stamp_ns, -5);
+  EXPECT_EQ(back.q_FM, m.q_FM);
+  EXPECT_EQ(back.twist_F, m.twist_F);
+  EXPECT_EQ(back.flags, m.flags);
+}
+
+TEST(WireConvert, TimeSplitsIntoSecondsAndNanoseconds) {
+  const auto t = ToTime(3 * 1000000000LL + 7);
+  EXPECT_EQ(t.sec, 3);
+  EXPECT_EQ(t.nanosec, 7u);
+  EXPECT_EQ(FromTime(t), 3 * 1000000000LL + 7);
+  EXPECT_EQ(FromTime(ToTime(-1)), -1);
+}
+
+TEST(WireConvert, CommandAndStateNamesRoundTrip) {
+  for (auto c : {teleop::StateCommand::kEnable, teleop::StateCommand::kDisable, teleop::StateCommand::kHome,
+                 teleop::StateCommand::kEStop, teleop::StateCommand::kReset}) {
+    teleop::StateCommand back = teleop::StateCommand::kDisable;
+    ASSERT_TRUE(ParseCommandName(CommandName(c), back));
+    EXPECT_EQ(back, c);
+  }
+  teleop::StateCommand unused;
+  EXPECT_FALSE(ParseCommandName("launch", unused));
+  EXPECT_FALSE(ParseCommandName(nullptr, unused));
+  teleop::OperatingState s;
+  ASSERT_TRUE(ParseOperatingStateName(OperatingStateName(teleop::OperatingState::kClutched), s));
+  EXPECT_EQ(s, teleop::OperatingState::kClutched);
+}
+
+TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
+  const auto leader = TopicsOf(Role::kLeader, "rsr");
+  const auto panel = TopicsOf(Role::kPanel, "rsr");
+  const auto follower = TopicsOf(Role::kFollower, "rsr");
+  auto has = [](const std::vector<std::string>& v, const std::string& s) {
+    return std::find(v.begin(), v.end(), s) != v.end();
+  };
+  EXPECT_TRUE(has(leader.publish, "rt/rsr/setpoint"));
+  EXPECT_FALSE(has(panel.publish, "rt/rsr/setpoint"));
+  EXPECT_TRUE(has(panel.publish, "rt/rsr/state_command"));
+  EXPECT_FALSE(has(leader.publish, "rt/rsr/measured_cp"));
+  EXPECT_TRUE(has(follower.publish, "rt/rsr/measured_cp"));
+  EXPECT_TRUE(has(follower.subscribe, "rt/rsr/setpoint"));
+  const std::string xml = PermissionsXml(Role::kPanel, "CN=panel,O=Robossis,C=US", "rsr", "2026-01-01T00:00:00",
+                                         "2036-01-01T00:00:00");
+  EXPECT_EQ(xml.find("rt/rsr/setpoint"), std::string::npos);
+  EXPECT_NE(xml.find("<default>DENY</default>"), std::string::npos);
+  EXPECT_NE(xml.find("CN=panel,O=Robossis,C=US"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace robossis::link
