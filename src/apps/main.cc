@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   apps::RegisterMocapCommands(app, context);
   apps::RegisterTrackEvalCommand(app, context);
   apps::RegisterTransferCommands(app, context);
+  apps::RegisterPanelCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
