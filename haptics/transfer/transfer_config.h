@@ -21,6 +21,14 @@ struct SpeedCaps {
   double max_angular_speed_rad_s = 1.0 * 3.14159265358979323846 / 180.0;  // [paper] 1 deg/s (0.2 deg/s clinical)
 };
 
+// The clinical caps of the paper (§V): 2 mm/s and 0.2 deg/s. The one place they are written.
+inline SpeedCaps ClinicalSpeedCaps() {
+  SpeedCaps caps;
+  caps.max_linear_speed_m_s = 0.002;                                          // [paper] 2 mm/s
+  caps.max_angular_speed_rad_s = 0.2 * 3.14159265358979323846 / 180.0;        // [paper] 0.2 deg/s
+  return caps;
+}
+
 // Incremental mapping (eq. 10–11) and input hygiene.
 struct MappingConfig {
   // Rotation taking HC-base directions into RSR fixed-frame directions (R_FO). [assumed] identity.

@@ -1,0 +1,36 @@
+#pragma once
+// Settings of the follower unit, loaded once from data/config/follower.yaml and validated there. SI inside; the
+// YAML keys carry their units. The speed caps come from transfer.yaml (transfer::SpeedCaps), the joint limits from
+// rsr.yaml: the follower refers to them, it does not copy them.
+
+#include <cstddef>
+#include <filesystem>
+
+#include "haptics/transfer/transfer_config.h"
+#include "robot/feasible_motion.h"
+#include "src/teleop/setpoint_validator.h"
+
+namespace robossis::teleop {
+
+struct FollowerWatchdogConfig {
+  double hold_after_s = 0.030;         // [assumed] no valid set-point this long -> hold
+  double leader_lost_after_s = 0.5;    // [assumed] -> disabled
+  double hold_decel_m_s2 = 0.05;       // [assumed]
+  double hold_decel_rad_s2 = 0.0873;   // [assumed] 5 deg/s^2
+  double max_extrapolation_s = 0.002;  // [assumed]
+};
+
+struct FollowerConfig {
+  SetPointLimits setpoint;  // setpoint.caps are filled from transfer.yaml
+  FollowerWatchdogConfig watchdog;
+  double status_rate_hz = 1000;       // [assumed] >= 100 Hz
+  std::size_t recorder_capacity = 65536;  // [assumed]
+  robot::FeasibleMotionConfig guard;
+
+  // Throws std::invalid_argument naming the field.
+  void Validate() const;
+  // Loads follower.yaml; `caps` are the transfer's (transfer.yaml). Throws std::runtime_error naming file and key.
+  static FollowerConfig FromYaml(const std::filesystem::path& file, const transfer::SpeedCaps& caps);
+};
+
+}  // namespace robossis::teleop

@@ -1,0 +1,220 @@
+#include "src/teleop/follower_unit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace robossis::teleop {
+
+namespace {
+
+void StorePose(const Eigen::Isometry3d& X, std::array<double, 3>& p, std::array<double, 4>& q) noexcept {
+  const Eigen::Quaterniond quat(X.linear());
+  for (int i = 0; i < 3; ++i) p[i] = X.translation()[i];
+  q = {quat.w(), quat.x(), quat.y(), quat.z()};
+}
+
+template <int N, typename Vec>
+void StoreVector(const Vec& v, std::array<double, N>& out) noexcept {
+  for (int i = 0; i < N; ++i) out[i] = v[i];
+}
+
+// Limits the twist step to the speed caps over dt (each part along its own direction).
+Vector6d CapStep(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept {
+  Vector6d out = step;
+  const double lin = step.head<3>().norm(), ang = step.tail<3>().norm();
+  const double lin_max = caps.max_linear_speed_m_s * dt, ang_max = caps.max_angular_speed_rad_s * dt;
+  if (lin > lin_max) out.head<3>() *= lin_max / lin;
+  if (ang > ang_max) out.tail<3>() *= ang_max / ang;
+  return out;
+}
+
+// Moves `value` towards zero by at most `delta` along its own direction.
+Eigen::Vector3d Decelerate(const Eigen::Vector3d& value, double delta) noexcept {
+  const double n = value.norm();
+  if (n <= delta) return Eigen::Vector3d::Zero();
+  return value * ((n - delta) / n);
+}
+
+}  // namespace
+
+FollowerUnit::FollowerUnit(const robot::RsrModel& model, const actuation::ActuationConfig& actuation,
+                           const FollowerConfig& config, robot::Follower& back_end, FollowerLink& link,
+                           const rt::Clock& clock)
+    : model_(model),
+      config_((config.Validate(), config)),
+      back_end_(back_end),
+      link_(link),
+      clock_(clock),
+      validator_(model, config.setpoint),
+      guard_(model, config.guard),
+      actuator_(model, actuation, back_end.State().X_FM, clock.NowS()),
+      records_(config.recorder_capacity) {
+  X_cmd_ = back_end.State().X_FM;
+  if (!robot::CalcInverseKinematics(model, X_cmd_).feasible) {
+    throw std::invalid_argument("follower unit: the back end's measured pose is outside the joint limits");
+  }
+  last_tick_s_ = clock.NowS();
+}
+
+Eigen::Isometry3d FollowerUnit::WantedPose(double now_s) noexcept {
+  // The 1 kHz set-point at this tick: first-order hold by its twist, extrapolated at most max_extrapolation_s.
+  const double ahead = std::clamp(now_s - setpoint_arrival_s_, 0.0, config_.watchdog.max_extrapolation_s);
+  const Eigen::Isometry3d X_sp = robot::ApplyTwistStep(setpoint_.X_FM, setpoint_.twist_F * ahead);
+  if (need_anchor_) {
+    X_anchor_setpoint_ = setpoint_.X_FM;
+    X_anchor_cmd_ = X_cmd_;
+    need_anchor_ = false;
+  }
+  // Re-anchored: the set-point's motion since the anchor, applied to the commanded pose at the anchor (in F, as
+  // the incremental mapping of eq. 10 does), so that resuming never jumps.
+  Eigen::Isometry3d X = X_anchor_cmd_;
+  X.translation() += X_sp.translation() - X_anchor_setpoint_.translation();
+  X.linear() = (X_sp.linear() * X_anchor_setpoint_.linear().transpose()) * X_anchor_cmd_.linear();
+  return X;
+}
+
+void FollowerUnit::Tick() noexcept {
+  const double now = clock_.NowS();
+  const double dt = first_tick_ ? 1.0 / 10000.0 : std::max(now - last_tick_s_, 0.0);
+  first_tick_ = false;
+  last_tick_s_ = now;
+  ++counters_.ticks;
+  FollowerTickRecord& rec = record_;
+  rec.tick = counters_.ticks;
+  rec.time_s = now;
+  rec.took_setpoint = false;
+
+  // 1. Commands (from every participant, in arrival order).
+  StateCommandMessage command;
+  while (link_.TakeCommand(command)) {
+    ++counters_.commands_taken;
+    if (!machine_.OnCommand(command.command, back_end_)) ++counters_.commands_refused;
+  }
+
+  // 2. The newest set-point, validated.
+  SetPointMessage message;
+  std::int64_t arrival_ns = 0;
+  if (link_.TakeSetPoint(message, arrival_ns)) {
+    ++counters_.setpoints_taken;
+    rec.took_setpoint = true;
+    const double arrival_s = 1e-9 * static_cast<double>(arrival_ns);
+    SetPointSample sample;
+    const SetPointVerdict verdict = validator_.CheckMessage(message, arrival_s, now, sample);
+    rec.setpoint_verdict = verdict;
+    ++counters_.setpoints_by_verdict[static_cast<int>(verdict)];
+    if (verdict == SetPointVerdict::kAccepted) {
+      ++counters_.setpoints_accepted;
+      has_setpoint_ = true;
+      setpoint_ = sample;
+      setpoint_arrival_s_ = arrival_s;
+      setpoint_sequence_ = message.sequence;
+      setpoint_flags_ = message.flags;
+    } else {
+      ++counters_.setpoints_rejected;
+    }
+  }
+  const double age = has_setpoint_ ? now - setpoint_arrival_s_ : 1e300;
+  const bool live = has_setpoint_ && age <= config_.watchdog.hold_after_s;
+  const bool lost = has_setpoint_ && age > config_.watchdog.leader_lost_after_s;
+  if (setpoint_live_ && !live) {
+    if (machine_.powered()) ++counters_.watchdog_holds;
+    validator_.Reset();  // after the hold, the next valid set-point re-anchors (no rate judged across the gap)
+  }
+  setpoint_live_ = live;
+
+  // 3. The state machine.
+  FollowerInputs inputs;
+  inputs.presence = (setpoint_flags_ & kSetPointPresence) != 0;
+  inputs.clutched = (setpoint_flags_ & kSetPointClutched) != 0;
+  inputs.have_valid_setpoint = live;
+  inputs.leader_lost = lost;
+  const OperatingState before = machine_.state();
+  machine_.Update(inputs, back_end_);
+  if (machine_.state() == OperatingState::kDisabled && before != OperatingState::kDisabled &&
+      machine_.reason() == FaultReason::kLeaderLost) {
+    ++counters_.leader_lost;
+    has_setpoint_ = false;  // a returning leader starts afresh
+    validator_.Reset();
+  }
+
+  // 4. Motion: follow, or hold decelerating within the caps.
+  const transfer::SpeedCaps& caps = config_.setpoint.caps;
+  Vector6d step = Vector6d::Zero();
+  if (machine_.following()) {
+    step = CapStep(robot::TwistStepBetween(X_cmd_, WantedPose(now)), caps, dt);
+  } else {
+    need_anchor_ = true;  // resuming re-anchors
+    if (machine_.powered()) {
+      Vector6d twist = twist_cmd_;
+      twist.head<3>() = Decelerate(twist_cmd_.head<3>(), config_.watchdog.hold_decel_m_s2 * dt);
+      twist.tail<3>() = Decelerate(twist_cmd_.tail<3>(), config_.watchdog.hold_decel_rad_s2 * dt);
+      step = CapStep(twist * dt, caps, dt);
+    }
+  }
+  robot::FeasibleMotionResult guarded;
+  if (step.isZero(0.0)) {
+    guarded.X_FM = X_cmd_;
+    guarded.status = robot::FeasibleMotionStatus::kTracked;
+  } else {
+    guarded = guard_.Step(X_cmd_, robot::ApplyTwistStep(X_cmd_, step));
+    if (guarded.status != robot::FeasibleMotionStatus::kTracked) ++counters_.guard_constrained;
+  }
+  const Vector6d moved = robot::TwistStepBetween(X_cmd_, guarded.X_FM);
+  twist_cmd_ = dt > 0 ? Vector6d(moved / dt) : Vector6d::Zero();
+  X_cmd_ = guarded.X_FM;
+
+  // 5. Actuation (eq. 15–17) and the back end.
+  const actuation::ActuationOutput& out = actuator_.Tick(now, X_cmd_, twist_cmd_);
+  if (machine_.powered()) back_end_.Command(out.command);
+  back_end_.Service(now);
+  const robot::RsrFollowerState measured = back_end_.State();
+  const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, measured.X_FM);
+  if (!ik.feasible) ++counters_.limit_violations;
+
+  // 6. Status (decimated) and the record.
+  if (now >= next_status_s_) {
+    PublishStatus(now, measured);
+    const double period = 1.0 / config_.status_rate_hz;
+    next_status_s_ = std::max(next_status_s_ + period, now);
+  }
+  rec.setpoint_sequence = setpoint_sequence_;
+  StorePose(setpoint_.X_FM, rec.setpoint_p_FM, rec.setpoint_q_FM);
+  StoreVector<6>(setpoint_.twist_F, rec.setpoint_twist_F);
+  rec.setpoint_flags = setpoint_flags_;
+  StorePose(X_cmd_, rec.cmd_p_FM, rec.cmd_q_FM);
+  StoreVector<6>(twist_cmd_, rec.cmd_twist_F);
+  StoreVector<6>(out.command.q, rec.cmd_joints);
+  StorePose(measured.X_FM, rec.meas_p_FM, rec.meas_q_FM);
+  StoreVector<6>(measured.q, rec.meas_joints);
+  StoreVector<6>(measured.effort, rec.effort);
+  rec.meas_min_margin = ik.tightest().margin;
+  rec.meas_feasible = ik.feasible;
+  rec.state = machine_.state();
+  rec.reason = machine_.reason();
+  rec.back_end_fault = static_cast<std::uint8_t>(measured.fault);
+  rec.guard_status = guarded.status;
+  rec.actuation_status = static_cast<std::uint8_t>(out.status);
+  rec.holding = !machine_.following();
+  if (!records_.TryPush(rec)) ++counters_.records_dropped;
+}
+
+void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept {
+  FollowerStatusMessage s;
+  s.sequence = ++status_sequence_;
+  s.stamp_ns = static_cast<std::int64_t>(std::llround(now_s * 1e9));
+  StorePose(measured.X_FM, s.p_FM, s.q_FM);
+  StoreVector<6>(measured.q, s.joints);
+  StoreVector<6>(measured.effort, s.effort);
+  s.state = machine_.state();
+  s.fault_reason = machine_.reason();
+  s.back_end_fault = static_cast<std::uint8_t>(machine_.back_end_fault());
+  s.setpoints_accepted = counters_.setpoints_accepted;
+  s.setpoints_rejected = counters_.setpoints_rejected;
+  s.watchdog_holds = counters_.watchdog_holds;
+  s.last_sequence = setpoint_sequence_;
+  link_.PublishStatus(s);
+  ++counters_.status_published;
+}
+
+}  // namespace robossis::teleop

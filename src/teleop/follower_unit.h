@@ -1,0 +1,138 @@
+#pragma once
+// The follower unit of Fig. 2: one 10 kHz actuation tick at a time. Each Tick() takes the queued state commands,
+// takes the newest set-point and validates it (SetPointValidator: the one validated path), runs the safety state
+// machine, follows the 1 kHz set-point at the tick by its twist (re-anchored after a clutch, a hold or a fault so
+// that the robot does not jump), bounds the step to the speed caps, passes it through the feasible-motion guard
+// (no joint limit crossed, the spherical cones included; exact IK), runs the actuation (eq. 15–17), commands and
+// services the back end, publishes the status (decimated) and pushes a per-tick record for the flight recorder.
+//
+// Not a loop: a runner calls Tick() on a thread at 10 kHz (real clock) or steps it (simulated clock). Tick() is
+// allocation-free, lock-free and noexcept; the constructor allocates the record queue.
+//
+// Watchdog: no valid set-point for hold_after_s -> the robot holds, decelerating within the hold deceleration
+// (counted in watchdog_holds); none for leader_lost_after_s -> the drives are disabled (reason kLeaderLost).
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "robot/actuation/actuation_config.h"
+#include "robot/actuation/actuator.h"
+#include "robot/feasible_motion.h"
+#include "robot/follower.h"
+#include "src/core/rt/clock.h"
+#include "src/core/rt/spsc_queue.h"
+#include "src/teleop/follower_config.h"
+#include "src/teleop/follower_state_machine.h"
+#include "src/teleop/link.h"
+#include "src/teleop/setpoint_validator.h"
+
+namespace robossis::teleop {
+
+// One actuation tick, as the flight recorder stores it. Plain fixed-size record; SI; quaternions (w, x, y, z).
+struct FollowerTickRecord {
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  // The newest valid set-point (as the leader sent it) and its sequence.
+  std::uint64_t setpoint_sequence = 0;
+  std::array<double, 3> setpoint_p_FM{};
+  std::array<double, 4> setpoint_q_FM{1, 0, 0, 0};
+  std::array<double, 6> setpoint_twist_F{};
+  std::uint8_t setpoint_flags = 0;
+  // The pose commanded this tick (after re-anchoring, the caps and the guard) and its twist.
+  std::array<double, 3> cmd_p_FM{};
+  std::array<double, 4> cmd_q_FM{1, 0, 0, 0};
+  std::array<double, 6> cmd_twist_F{};
+  std::array<double, 6> cmd_joints{};
+  // What the back end measured after Service().
+  std::array<double, 3> meas_p_FM{};
+  std::array<double, 4> meas_q_FM{1, 0, 0, 0};
+  std::array<double, 6> meas_joints{};
+  std::array<double, 6> effort{};
+  double meas_min_margin = 0;  // the measured pose's tightest joint-limit margin (m or rad; < 0 violated)
+  // Verdicts.
+  OperatingState state = OperatingState::kDisabled;
+  FaultReason reason = FaultReason::kNone;
+  std::uint8_t back_end_fault = 0;   // robot::FollowerFault
+  bool took_setpoint = false;        // a set-point arrived this tick ...
+  SetPointVerdict setpoint_verdict = SetPointVerdict::kAccepted;  // ... and this was its verdict
+  robot::FeasibleMotionStatus guard_status = robot::FeasibleMotionStatus::kTracked;
+  std::uint8_t actuation_status = 0;  // actuation::ActuationStatus
+  bool holding = false;               // not following (hold, clutch, ready, watchdog)
+  bool meas_feasible = true;
+};
+
+struct FollowerCounters {
+  std::uint64_t ticks = 0;
+  std::uint64_t setpoints_taken = 0;
+  std::uint64_t setpoints_accepted = 0;
+  std::array<std::uint64_t, kNumSetPointVerdicts> setpoints_by_verdict{};  // index: SetPointVerdict
+  std::uint64_t setpoints_rejected = 0;
+  std::uint64_t watchdog_holds = 0;      // times the set-points stopped for hold_after_s while powered
+  std::uint64_t leader_lost = 0;         // times the leader timeout disabled the drives
+  std::uint64_t limit_violations = 0;    // ticks at which the measured joints broke a limit (cones included)
+  std::uint64_t guard_constrained = 0;   // ticks at which the guard changed the wanted step
+  std::uint64_t commands_taken = 0;
+  std::uint64_t commands_refused = 0;
+  std::uint64_t status_published = 0;
+  std::uint64_t records_dropped = 0;     // the flight recorder's queue was full
+};
+
+class FollowerUnit {
+ public:
+  // The start pose is the back end's measured pose (it must be inside the joint limits). Throws
+  // std::invalid_argument on a bad config or an infeasible start. Keeps references to every argument.
+  FollowerUnit(const robot::RsrModel& model, const actuation::ActuationConfig& actuation,
+               const FollowerConfig& config, robot::Follower& back_end, FollowerLink& link, const rt::Clock& clock);
+
+  // One actuation tick at clock.NowS().
+  void Tick() noexcept;
+
+  // The flight recorder's end of the record queue (one consumer thread).
+  bool TakeRecord(FollowerTickRecord& record) noexcept { return records_.TryPop(record); }
+
+  OperatingState state() const noexcept { return machine_.state(); }
+  FaultReason reason() const noexcept { return machine_.reason(); }
+  const FollowerCounters& counters() const noexcept { return counters_; }
+  const Eigen::Isometry3d& commanded_pose() const noexcept { return X_cmd_; }
+  const FollowerConfig& config() const noexcept { return config_; }
+
+ private:
+  Eigen::Isometry3d WantedPose(double now_s) noexcept;
+  void PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept;
+
+  const robot::RsrModel& model_;
+  FollowerConfig config_;
+  robot::Follower& back_end_;
+  FollowerLink& link_;
+  const rt::Clock& clock_;
+  SetPointValidator validator_;
+  robot::FeasibleMotionGuard guard_;
+  actuation::Actuator actuator_;
+  FollowerStateMachine machine_;
+  rt::SpscQueue<FollowerTickRecord> records_;
+  FollowerCounters counters_;
+  FollowerTickRecord record_;
+
+  // Set-point state.
+  bool has_setpoint_ = false;
+  SetPointSample setpoint_;
+  double setpoint_arrival_s_ = 0;
+  std::uint64_t setpoint_sequence_ = 0;
+  std::uint8_t setpoint_flags_ = 0;
+  bool setpoint_live_ = false;  // a valid set-point within hold_after_s (for the watchdog's edge)
+  // Re-anchoring: the set-point and the commanded pose when following resumed.
+  bool need_anchor_ = true;
+  Eigen::Isometry3d X_anchor_setpoint_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d X_anchor_cmd_ = Eigen::Isometry3d::Identity();
+  // Commanded motion.
+  Eigen::Isometry3d X_cmd_ = Eigen::Isometry3d::Identity();
+  Vector6d twist_cmd_ = Vector6d::Zero();
+  double last_tick_s_ = 0;
+  bool first_tick_ = true;
+  double next_status_s_ = 0;
+  std::uint64_t status_sequence_ = 0;
+};
+
+}  // namespace robossis::teleop

@@ -1,0 +1,56 @@
+#include "src/teleop/in_process_link.h"
+
+#include <cmath>
+
+namespace robossis::teleop {
+
+InProcessLink::InProcessLink(const rt::Clock& clock, std::size_t command_capacity)
+    : clock_(clock), leader_commands_(command_capacity), operator_commands_(command_capacity) {}
+
+bool OperatorCommandPort::Send(const StateCommandMessage& message) noexcept {
+  if (link_.operator_commands_.TryPush(message)) return true;
+  link_.commands_dropped_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+void InProcessLink::SendSetPoint(const SetPointMessage& message) noexcept {
+  TimedSetPoint t;
+  t.message = message;
+  t.arrival_ns = static_cast<std::int64_t>(std::llround(clock_.NowS() * 1e9));
+  setpoint_.Publish(t);
+}
+
+bool InProcessLink::TakeFollowerStatus(FollowerStatusMessage& message) noexcept {
+  const std::uint64_t v = status_.version();
+  if (v == status_taken_version_ || !status_.Read(message)) return false;
+  status_taken_version_ = v;
+  return true;
+}
+
+bool InProcessLink::SendCommand(const StateCommandMessage& message) noexcept {
+  if (leader_commands_.TryPush(message)) return true;
+  commands_dropped_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+bool InProcessLink::TakeSetPoint(SetPointMessage& message, std::int64_t& arrival_ns) noexcept {
+  const std::uint64_t v = setpoint_.version();
+  if (v == setpoint_taken_version_) return false;
+  TimedSetPoint t;
+  if (!setpoint_.Read(t)) return false;
+  setpoint_taken_version_ = v;
+  message = t.message;
+  arrival_ns = t.arrival_ns;
+  return true;
+}
+
+bool InProcessLink::TakeCommand(StateCommandMessage& message) noexcept {
+  // The E-stop must not wait behind the other producer: the leader's queue (device failures) first, then the
+  // operator's; both are drained every tick.
+  if (leader_commands_.TryPop(message)) return true;
+  return operator_commands_.TryPop(message);
+}
+
+void InProcessLink::PublishStatus(const FollowerStatusMessage& message) noexcept { status_.Publish(message); }
+
+}  // namespace robossis::teleop

@@ -1,0 +1,104 @@
+#pragma once
+// The one validated path for every motion command (the teleoperation follower, `robossis move`, `robossis
+// transfer`, the panel): a set-point is accepted only if it is finite, fresh, in order, inside the workspace by the
+// exact IK (the spherical-joint cones included) and within the speed and acceleration caps, both as it states its
+// twist and as its pose moved since the previous accepted set-point. No entry point has another way to the robot.
+//
+// Real time: Check() and CheckMessage() are allocation-free and noexcept.
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "haptics/transfer/transfer_config.h"
+#include "robot/rsr_kinematics.h"
+#include "src/teleop/link_messages.h"
+
+namespace robossis::teleop {
+
+// The limits a set-point must meet. The speed caps are the transfer's (transfer.yaml `caps`, eq. 11): one place
+// for each limit. The others come from follower.yaml (`setpoint:`), each [assumed] there.
+struct SetPointLimits {
+  transfer::SpeedCaps caps;
+  double max_linear_accel_m_s2 = 5.0;      // [assumed] follower.yaml
+  double max_angular_accel_rad_s2 = 10.0;  // [assumed] follower.yaml
+  double max_age_s = 0.030;                // [issue: 30 ms] arrival → use
+  // Relative slack on the caps for rounding and for the finite difference of two set-points ([assumed]).
+  double cap_tolerance = 0.02;
+  // Throws std::invalid_argument naming the field.
+  void Validate() const;
+};
+
+enum class SetPointVerdict : std::uint8_t {
+  kAccepted,
+  kNotFinite,        // a NaN or infinite field, or a quaternion that is not unit
+  kStale,            // older than max_age_s at use
+  kOutOfOrder,       // not newer than the last accepted set-point of the same leader session
+  kInfeasible,       // outside the workspace (exact IK: strokes, rotary ranges, spherical cones)
+  kTooFast,          // the twist or the pose change breaks a speed cap
+  kTooAccelerating,  // the twist changed faster than the acceleration cap
+};
+inline constexpr int kNumSetPointVerdicts = 7;
+const char* ToString(SetPointVerdict verdict);
+
+// One set-point in SI: time (s), pose, twist [v; omega] in F.
+struct SetPointSample {
+  double time_s = 0;
+  Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();
+  Vector6d twist_F = Vector6d::Zero();
+};
+
+// The pose and twist of a link message (no checks).
+SetPointSample SampleFromMessage(const SetPointMessage& message) noexcept;
+
+class SetPointValidator {
+ public:
+  // Validates the limits (throws std::invalid_argument). Keeps a reference to the model.
+  SetPointValidator(const robot::RsrModel& model, const SetPointLimits& limits);
+
+  // Checks one set-point against the workspace and the caps, and against the previous accepted one. An accepted
+  // set-point becomes the reference for the next.
+  SetPointVerdict Check(const SetPointSample& sample) noexcept;
+
+  // A link message: the field checks, freshness (now_s - arrival_s <= max_age_s) and order (sequence within a
+  // leader session; a new session starts a new reference), then Check(). `sample` receives the converted set-point.
+  SetPointVerdict CheckMessage(const SetPointMessage& message, double arrival_s, double now_s,
+                               SetPointSample& sample) noexcept;
+
+  // Forget the reference (after a clutch, a hold or a fault the next set-point re-anchors; no rate is judged
+  // across the gap).
+  void Reset() noexcept { has_reference_ = false; }
+
+  const SetPointLimits& limits() const noexcept { return limits_; }
+  std::uint64_t count(SetPointVerdict verdict) const noexcept { return counts_[static_cast<int>(verdict)]; }
+  std::uint64_t rejected() const noexcept;
+  // The last check's exact-IK tightest limit (valid after kInfeasible or kAccepted).
+  const robot::RsrLimitCheck& tightest() const noexcept { return tightest_; }
+
+ private:
+  SetPointVerdict Count(SetPointVerdict v) noexcept {
+    ++counts_[static_cast<int>(v)];
+    return v;
+  }
+  const robot::RsrModel& model_;
+  SetPointLimits limits_;
+  bool has_reference_ = false;
+  SetPointSample reference_;
+  bool has_sequence_ = false;
+  std::uint64_t session_ = 0;
+  std::uint64_t sequence_ = 0;
+  robot::RsrLimitCheck tightest_{};
+  std::array<std::uint64_t, kNumSetPointVerdicts> counts_{};
+};
+
+// The first set-point of a path that fails, for the command line's moves. `index` is the sample's position.
+struct PathVerdict {
+  SetPointVerdict verdict = SetPointVerdict::kAccepted;
+  std::size_t index = 0;
+  double time_s = 0;
+  robot::RsrLimitCheck tightest{};
+  bool ok() const noexcept { return verdict == SetPointVerdict::kAccepted; }
+};
+
+}  // namespace robossis::teleop

@@ -1,0 +1,252 @@
+#include "src/teleop/follower_unit.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "robot/actuation/pulse_recorder_follower.h"
+#include "src/core/config.h"
+#include "src/core/units.h"
+#include "src/teleop/in_process_link.h"
+#include "tests/support/alloc_counter.h"
+
+namespace robossis::teleop {
+namespace {
+
+constexpr std::int64_t kTickNs = 100'000;  // 10 kHz
+
+// A follower unit on the simulated clock and the in-process link, with the pulse recorder as its back end, and a
+// scripted leader that sends one set-point every 10 ticks (1 kHz).
+class FollowerUnitTest : public ::testing::Test {
+ protected:
+  const robot::RsrModel model_ = robot::RsrModel::Default();
+  const Eigen::Isometry3d home_ = model_.geometry().X_FM_home;
+  const actuation::ActuationConfig actuation_ =
+      actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml");
+  const transfer::TransferConfig transfer_ =
+      transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
+  const FollowerConfig config_ =
+      FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer_.caps);
+  rt::SimulatedClock clock_;
+  InProcessLink link_{clock_};
+  actuation::PulseRecorderFollower back_end_{model_, actuation_, home_, 1 << 16, 1 << 16};
+  FollowerUnit unit_{model_, actuation_, config_, back_end_, link_, clock_};
+
+  // The leader's script: position offset from home and its velocity at time t.
+  Eigen::Vector3d leader_offset_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d leader_velocity_ = Eigen::Vector3d(0.005, 0, 0);  // 5 mm/s along x
+  std::uint8_t leader_flags_ = kSetPointPresence;
+  bool leader_sending_ = true;
+  std::uint64_t sequence_ = 0;
+  std::int64_t tick_ = 0;
+
+  void Command(StateCommand c) {
+    StateCommandMessage m;
+    m.command = c;
+    ASSERT_TRUE(link_.operator_commands().Send(m));
+  }
+
+  void SendSetPoint() {
+    const Eigen::Vector3d p = home_.translation() + leader_offset_;
+    SetPointMessage m;
+    m.sequence = ++sequence_;
+    m.leader_session = 1;
+    m.stamp_ns = clock_.now_ns();
+    m.p_FM = {p.x(), p.y(), p.z()};
+    m.twist_F = {leader_velocity_.x(), leader_velocity_.y(), leader_velocity_.z(), 0, 0, 0};
+    m.flags = leader_flags_;
+    link_.SendSetPoint(m);
+  }
+
+  // One 10 kHz tick: every 10th the leader moves and sends, then the follower ticks.
+  void Step() {
+    clock_.AdvanceNs(kTickNs);
+    ++tick_;
+    if (tick_ % 10 == 0) {
+      leader_offset_ += 1e-3 * leader_velocity_;
+      if (leader_sending_) SendSetPoint();
+    }
+    unit_.Tick();
+  }
+  void Run(double seconds) {
+    const auto n = static_cast<std::int64_t>(std::llround(seconds * 1e4));
+    for (std::int64_t i = 0; i < n; ++i) Step();
+  }
+  double CmdX() const { return unit_.commanded_pose().translation().x() - home_.translation().x(); }
+  void EnableAndFollow() {
+    Command(StateCommand::kEnable);
+    Run(0.05);
+    ASSERT_EQ(unit_.state(), OperatingState::kEnabled);
+  }
+};
+
+TEST_F(FollowerUnitTest, FollowsTheSetPointsOnceEnabled) {
+  EnableAndFollow();
+  const double x0 = CmdX();
+  Run(1.0);
+  EXPECT_NEAR(CmdX() - x0, 0.005, 2e-4);  // 5 mm/s for 1 s
+  EXPECT_EQ(unit_.counters().setpoints_rejected, 0u);
+  EXPECT_EQ(unit_.counters().limit_violations, 0u);
+  EXPECT_GT(back_end_.events().size(), 0u);  // the pulse recorder recorded the steps of the motion
+}
+
+TEST_F(FollowerUnitTest, NoMotionWithoutPresence) {
+  leader_flags_ = 0;
+  Command(StateCommand::kEnable);
+  Run(0.5);
+  EXPECT_EQ(unit_.state(), OperatingState::kReady);
+  EXPECT_EQ(CmdX(), 0.0);
+  leader_flags_ = kSetPointPresence;
+  Run(0.5);
+  EXPECT_EQ(unit_.state(), OperatingState::kEnabled);
+  EXPECT_GT(CmdX(), 0.001);
+}
+
+TEST_F(FollowerUnitTest, WatchdogHoldsWithin30MsOfTheLastSetPoint) {
+  EnableAndFollow();
+  Run(0.5);
+  leader_sending_ = false;
+  const double t_last = clock_.NowS() - 1e-4 * (tick_ % 10);  // the last set-point's arrival
+  bool held = false;
+  double t_hold = 0;
+  for (int i = 0; i < 1000 && !held; ++i) {
+    Step();
+    if (unit_.state() != OperatingState::kEnabled) {
+      held = true;
+      t_hold = clock_.NowS();
+    }
+  }
+  ASSERT_TRUE(held);
+  EXPECT_LE(t_hold - t_last, config_.watchdog.hold_after_s + 1.5e-4);
+  EXPECT_EQ(unit_.counters().watchdog_holds, 1u);
+  // Held: it never speeds up again, never passes the last set-point by more than its extrapolation, and stands
+  // still.
+  const double x_last = leader_offset_.x();
+  double prev_x = CmdX(), prev_v = 1e300;
+  for (int i = 0; i < 3000; ++i) {
+    Step();
+    const double v = (CmdX() - prev_x) / 1e-4;
+    EXPECT_LE(v, std::min(prev_v, transfer_.caps.max_linear_speed_m_s) + 1e-9);
+    EXPECT_LE(CmdX(), x_last + 0.005 * config_.watchdog.max_extrapolation_s + 1e-9);
+    prev_v = v;
+    prev_x = CmdX();
+  }
+  EXPECT_NEAR(prev_v, 0.0, 1e-12);
+}
+
+TEST_F(FollowerUnitTest, LeaderLostDisablesTheDrives) {
+  EnableAndFollow();
+  leader_sending_ = false;
+  Run(config_.watchdog.leader_lost_after_s + 0.01);
+  EXPECT_EQ(unit_.state(), OperatingState::kDisabled);
+  EXPECT_EQ(unit_.reason(), FaultReason::kLeaderLost);
+  EXPECT_EQ(unit_.counters().leader_lost, 1u);
+  EXPECT_FALSE(back_end_.State().enabled);
+}
+
+TEST_F(FollowerUnitTest, EStopLatchesUntilResetAndResumesWithoutAJump) {
+  EnableAndFollow();
+  Run(0.2);
+  Command(StateCommand::kEStop);
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  const double x_stop = CmdX();
+  Run(0.5);  // set-points keep coming: nothing moves
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  EXPECT_EQ(CmdX(), x_stop);
+  Command(StateCommand::kEnable);  // refused while latched
+  Run(0.01);
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  Command(StateCommand::kReset);
+  Command(StateCommand::kEnable);
+  double prev = CmdX();
+  for (int i = 0; i < 2000; ++i) {
+    Step();
+    EXPECT_LE(std::abs(CmdX() - prev), 1.02 * transfer_.caps.max_linear_speed_m_s * 1e-4 + 1e-12) << i;
+    prev = CmdX();
+  }
+  EXPECT_EQ(unit_.state(), OperatingState::kEnabled);
+  EXPECT_NEAR(CmdX() - x_stop, 0.005 * 0.2, 2e-4);  // re-anchored: continues from where it stopped
+}
+
+TEST_F(FollowerUnitTest, ClutchReanchorsWithoutAJump) {
+  EnableAndFollow();
+  Run(0.2);
+  leader_flags_ = kSetPointPresence | kSetPointClutched;
+  Run(0.01);
+  EXPECT_EQ(unit_.state(), OperatingState::kClutched);
+  const double x_clutch = CmdX();
+  Run(1.0);  // the hand moves 5 mm with the clutch open
+  leader_flags_ = kSetPointPresence;
+  double prev = CmdX();
+  for (int i = 0; i < 1000; ++i) {
+    Step();
+    EXPECT_LE(std::abs(CmdX() - prev), 1.02 * transfer_.caps.max_linear_speed_m_s * 1e-4 + 1e-12) << i;
+    prev = CmdX();
+  }
+  EXPECT_LT(CmdX() - x_clutch, 0.002);  // did not catch up the 5 mm moved while clutched
+}
+
+TEST_F(FollowerUnitTest, BackEndFaultLatchesAndResets) {
+  EnableAndFollow();
+  back_end_.InjectFault(robot::FollowerFault::kExternal);
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kFault);
+  EXPECT_EQ(unit_.reason(), FaultReason::kBackEnd);
+  back_end_.InjectFault(robot::FollowerFault::kNone);
+  Run(0.05);
+  EXPECT_EQ(unit_.state(), OperatingState::kFault);
+  Command(StateCommand::kReset);
+  Command(StateCommand::kEnable);
+  Run(0.05);
+  EXPECT_EQ(unit_.state(), OperatingState::kEnabled);
+}
+
+TEST_F(FollowerUnitTest, RejectsBadSetPointsAndCountsThemByReason) {
+  EnableAndFollow();
+  leader_offset_.z() = 0.2;  // far outside: every set-point infeasible
+  Run(0.1);
+  EXPECT_GT(unit_.counters().setpoints_by_verdict[static_cast<int>(SetPointVerdict::kInfeasible)], 50u);
+  EXPECT_NE(unit_.state(), OperatingState::kEnabled);  // the watchdog held: no valid set-point
+  EXPECT_EQ(unit_.counters().limit_violations, 0u);
+}
+
+TEST_F(FollowerUnitTest, DrivenIntoTheStrokeLimitsItStaysInside) {
+  // The leader keeps going up at 9 mm/s for 9 s (81 mm, past the upper strokes): the set-points past the limit
+  // are rejected, the guard stops the commanded pose at the wall, and the measured joints never break a limit.
+  EnableAndFollow();
+  leader_velocity_ = Eigen::Vector3d(0, 0, 0.009);  // within the cap, towards the upper strokes
+  Run(9.0);
+  EXPECT_EQ(unit_.counters().limit_violations, 0u);
+  EXPECT_GT(unit_.counters().setpoints_accepted, 1000u);
+  EXPECT_TRUE(robot::CalcInverseKinematics(model_, unit_.commanded_pose()).feasible);
+}
+
+TEST_F(FollowerUnitTest, PublishesStatusAndRecordsEveryTick) {
+  EnableAndFollow();
+  FollowerTickRecord r;
+  int n = 0;
+  while (unit_.TakeRecord(r)) ++n;
+  EXPECT_EQ(n, 500);
+  EXPECT_EQ(r.state, OperatingState::kEnabled);
+  FollowerStatusMessage s;
+  ASSERT_TRUE(link_.TakeFollowerStatus(s));
+  EXPECT_EQ(s.state, OperatingState::kEnabled);
+  EXPECT_GE(unit_.counters().status_published, 49u);  // 1 kHz over 50 ms
+}
+
+TEST_F(FollowerUnitTest, TickAllocatesNothing) {
+  Command(StateCommand::kEnable);
+  Run(0.01);
+  leader_offset_.z() = 0.069;  // near the upper strokes: the guard works too
+  leader_velocity_ = Eigen::Vector3d(0.002, 0, 0.002);
+  Run(0.01);
+  testing::AllocationCounter counter;
+  Run(0.5);
+  leader_sending_ = false;
+  Run(0.1);  // the watchdog's hold as well
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+}  // namespace
+}  // namespace robossis::teleop
