@@ -33,6 +33,7 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context);
 void RegisterTransferCommands(CLI::App& app, const AppContext& context);
 void RegisterHalCommands(CLI::App& app, const AppContext& context);
 void RegisterKeysCommands(CLI::App& app, const AppContext& context);
+void RegisterPanelCommand(CLI::App& app, const AppContext& context);
 
 // "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI. Throws std::invalid_argument naming the option.
 Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name);

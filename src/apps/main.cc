@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   apps::RegisterTransferCommands(app, context);
   apps::RegisterHalCommands(app, context);
   apps::RegisterKeysCommands(app, context);
+  apps::RegisterPanelCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,102 @@
+// robossis panel: the control panel window over the panel's own simulated follower (Bullet RSR).
+
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "haptics/transfer/transfer_config.h"
+#include "robot/sim/sim_config.h"
+#include "src/apps/app_context.h"
+#include "src/apps/panel/panel_window.h"
+#include "src/core/units.h"
+#include "src/panel/simulated_follower_backend.h"
+#include "src/panel/view_model.h"
+
+namespace robossis::apps {
+
+PanelModels LoadPanelModels(const AppContext& context, bool with_bone) {
+  const transfer::TransferConfig transfer = transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml"));
+  PanelModels models{context.LoadRsr(), context.LoadSigma7(),
+                     panel::PanelConfig::FromYaml(context.ConfigPath("panel.yaml")),
+                     {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
+                     nullptr};
+  if (with_bone) {
+    const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
+    models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
+  }
+  return models;
+}
+
+void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
+  struct Options {
+    std::string script;
+    std::string screenshot;
+    long frames = 0;
+    int width = 0, height = 0;
+    bool no_vsync = false;
+    bool no_bone = false;
+    bool no_slice = false;
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "panel",
+      "The control panel (Fig. 13) over a simulated follower: jog (eq. 9), haptic mode, E-stop, 3-D view, gauges.\n"
+      "Example: xvfb-run -a robossis panel --script jog.txt --screenshot panel.png --json");
+  cmd->add_option("--script", options->script, "Timed UI actions to play (see src/panel/script.h)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--screenshot", options->screenshot, "Save the last frame as this PNG");
+  cmd->add_option("--frames", options->frames, "Exit after N frames")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--width", options->width, "Window width in pixels (default: panel.yaml)")->check(CLI::PositiveNumber);
+  cmd->add_option("--height", options->height, "Window height in pixels (default: panel.yaml)")->check(CLI::PositiveNumber);
+  cmd->add_flag("--no-vsync", options->no_vsync, "Render as fast as possible (frame-time measurements)");
+  cmd->add_flag("--no-bone", options->no_bone, "Do not load and draw the femur fragments");
+  cmd->add_flag("--no-slice", options->no_slice, "Do not draw the live workspace slice");
+  cmd->add_flag("--json", options->json, "Print the final follower status and the frame times as JSON");
+  cmd->callback([options, &context] {
+    const PanelModels models = LoadPanelModels(context, !options->no_bone);
+    PanelWindowOptions window;
+    window.width_px = options->width > 0 ? options->width : models.config.window_width_px;
+    window.height_px = options->height > 0 ? options->height : models.config.window_height_px;
+    if (!options->script.empty()) window.script = panel::LoadScript(options->script);
+    window.screenshot_path = options->screenshot;
+    window.max_frames = options->frames;
+    window.vsync = !options->no_vsync;
+    window.workspace_slice = !options->no_slice;
+
+    const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
+    panel::JogLimits limits{models.demonstration_caps.max_linear_speed_m_s,
+                            models.demonstration_caps.max_angular_speed_rad_s, models.config.jog_path_samples};
+    panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, limits,
+                                            models.config.sim_loop_rate_hz);
+    backend.Start();
+    const PanelRunResult result = RunPanelWindow(backend, models, window);
+    backend.Stop();
+    if (!options->json) return;
+    teleop::FollowerStatusMessage status;
+    backend.ReadStatus(status);
+    panel::LoopHealth health;
+    backend.ReadHealth(health);
+    const panel::PanelViewModel view = panel::BuildViewModel(models.rsr, status);
+    nlohmann::ordered_json out;
+    out["frames"] = result.frames;
+    out["elapsed_s"] = result.elapsed_s;
+    out["frame_ms"] = {{"p50", result.frame_p50_ms}, {"p99", result.frame_p99_ms}, {"max", result.frame_max_ms}};
+    out["window_px"] = {window.width_px, window.height_px};
+    out["screenshots"] = result.screenshots;
+    out["message"] = result.message;
+    out["last_fault"] = result.last_fault;
+    out["haptic"] = {{"enabled", result.haptic_enabled}, {"clutched", result.clutched},
+                     {"caps", result.cap_preset}, {"method", result.rendering_method}};
+    out["state"] = view.state_name;
+    out["fault_reason"] = teleop::ToString(status.fault_reason);
+    out["pose_mm_deg"] = view.pose_mm_deg;
+    out["setpoints_accepted"] = status.setpoints_accepted;
+    out["setpoints_rejected"] = status.setpoints_rejected;
+    out["loop"] = {{"ticks", health.ticks}, {"overruns", health.overruns},
+                   {"max_jitter_ms", 1e3 * health.max_jitter_s}};
+    PrintJson(out);
+  });
+}
+
+}  // namespace robossis::apps

@@ -1,0 +1,85 @@
+#pragma once
+// The control panel's window (paper Fig. 13): Dear ImGui on GLFW and OpenGL 3, drawing a PanelController over any
+// PanelBackend. `robossis panel` runs it over the panel's simulated follower; `robossis teleop --panel` runs it over
+// the in-process teleoperation runtime. The window thread only reads snapshots and queues commands: it never
+// blocks a real-time loop.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "robot/rsr_model.h"
+#include "robot/sigma7_model.h"
+#include "robot/sim/bone_fragments.h"
+#include "src/panel/haptic_mode.h"
+#include "src/panel/panel_backend.h"
+#include "src/panel/panel_config.h"
+#include "src/panel/script.h"
+
+namespace robossis::apps {
+
+struct PanelWindowOptions {
+  int width_px = 1600;
+  int height_px = 900;
+  std::vector<panel::ScriptAction> script;  // played against the panel's clock (s since the window opened)
+  std::string screenshot_path;              // PNG of the last frame ("" for none)
+  long max_frames = 0;                      // exit after this many frames (0: until closed or the script quits)
+  bool vsync = true;                        // off for the frame-time benchmark
+  bool workspace_slice = true;              // the live dexterous slice around the ring
+};
+
+struct PanelRunResult {
+  long frames = 0;
+  double frame_p50_ms = 0;
+  double frame_p99_ms = 0;
+  double frame_max_ms = 0;
+  std::vector<std::string> screenshots;  // written PNGs
+  double elapsed_s = 0;
+  // The panel's own state at the end, for scripted tests.
+  std::string message;          // the last refusal shown to the operator
+  std::string last_fault;
+  bool haptic_enabled = false;
+  bool clutched = false;
+  std::string cap_preset;
+  std::string rendering_method;
+};
+
+// Everything the window draws that does not come from the backend.
+struct PanelModels {
+  robot::RsrModel rsr;
+  robot::Sigma7Model hc;
+  panel::PanelConfig config;
+  panel::SpeedCapValues demonstration_caps;
+  std::shared_ptr<const sim::BoneFragments> fragments;  // may be null
+};
+
+// The window, one frame at a time (the benchmark times Frame()).
+class PanelWindow {
+ public:
+  // Opens the window. Throws std::runtime_error when no window can be opened.
+  PanelWindow(panel::PanelBackend& backend, const PanelModels& models, const PanelWindowOptions& options);
+  ~PanelWindow();
+  PanelWindow(const PanelWindow&) = delete;
+  PanelWindow& operator=(const PanelWindow&) = delete;
+  // Plays the due script actions, reads the snapshots, draws and presents one frame, writes the due screenshots.
+  // False when the panel should close (window closed, script quit, max_frames reached). Throws
+  // std::invalid_argument for a script action the panel does not know (naming the script line).
+  bool Frame();
+  // The frame statistics and the panel's state so far.
+  PanelRunResult Result() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Opens the window, runs until it is closed, the script quits or max_frames, and returns the frame statistics.
+// Throws std::runtime_error when no window can be opened, std::invalid_argument for a script action the panel does
+// not know (naming the script line).
+PanelRunResult RunPanelWindow(panel::PanelBackend& backend, const PanelModels& models,
+                              const PanelWindowOptions& options);
+
+// Writes the current OpenGL framebuffer (width x height) as a PNG; throws std::runtime_error naming the path.
+void SaveFramebufferPng(const std::string& path, int width, int height);
+
+}  // namespace robossis::apps

@@ -1,0 +1,43 @@
+#pragma once
+// The robot in 3-D for the panel, drawn with Dear ImGui's draw lists (lines and filled triangles projected by an
+// orbit camera; no OpenGL state of its own): fixed and moving rings, the three arms, the bone fragments, the live
+// workspace boundary slice around the ring, and the force and torque on the hand as arrows at the ring's centre.
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <imgui.h>
+
+#include "robot/rsr_model.h"
+#include "src/panel/panel_backend.h"
+#include "src/panel/panel_controller.h"
+
+namespace robossis::apps {
+
+// A mesh reduced for drawing: vertices and triangles (in its own frame).
+struct DrawMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+struct RobotScene {
+  DrawMesh proximal_F;  // fixed to the fixed ring
+  DrawMesh distal_M;    // fixed to the moving ring
+  // The boundary of the dexterous slice at the current orientation: the positions the ring centre P can reach (F).
+  std::vector<std::array<Eigen::Vector3d, 2>> slice_edges_F;
+};
+
+// Keeps at most `max_triangles` of a mesh (every k-th), for a frame-time budget on a software renderer.
+DrawMesh ReduceForDrawing(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& triangles, std::size_t max_triangles);
+// The unique edges of a closed triangle mesh (vertices in m), at most `max_edges` of them.
+std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::Vector3d>& vertices,
+                                                      const std::vector<Eigen::Vector3i>& triangles,
+                                                      std::size_t max_edges);
+
+void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
+                   const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
+                   const RobotScene& scene, const panel::HandWrench& wrench);
+
+}  // namespace robossis::apps

@@ -1,0 +1,63 @@
+#pragma once
+// Manual jogs of the control panel (paper Fig. 13): one axis, an amount, and either the time interval or the speed
+// of the move, executed as the eq. 9 timed move (haptics/transfer/timed_move.h) from the follower's current pose.
+//
+// Before a jog starts the panel previews it against the workspace: the whole eq. 9 path is sampled and every
+// sample's inverse kinematics (eq. 5–8) must be within every joint limit; a jog that would leave the workspace, or
+// whose peak speed would break the follower's caps, is refused with the reason. The follower unit checks every
+// set-point of the move again on its own validated path; the preview only spares the operator a move that would be
+// stopped half-way.
+
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "haptics/transfer/timed_move.h"
+#include "robot/rsr_kinematics.h"
+#include "robot/rsr_model.h"
+
+namespace robossis::panel {
+
+// The six DOF of the moving ring, in the fixed frame F: translations along x, y, z and rotations about them.
+enum class JogAxis { kX, kY, kZ, kRoll, kPitch, kYaw };
+const char* ToString(JogAxis axis);            // "x", "y", "z", "roll", "pitch", "yaw"
+JogAxis JogAxisFromString(const std::string& name);  // throws std::invalid_argument naming the value
+bool IsRotational(JogAxis axis);
+
+enum class JogTiming { kDuration, kSpeed };
+
+struct JogRequest {
+  JogAxis axis = JogAxis::kX;
+  double amount = 0;                 // m, or rad for a rotation (signed)
+  JogTiming timing = JogTiming::kDuration;
+  double duration_s = 1.0;           // used with kDuration
+  double peak_speed = 0;             // m/s or rad/s, used with kSpeed: eq. 9's peak speed pi/2 · |dx| / dt
+};
+
+// The speed caps a jog must respect (the follower's caps, transfer.yaml `caps`).
+struct JogLimits {
+  double max_linear_speed_m_s = 0.010;
+  double max_angular_speed_rad_s = 0.0174532925199432958;  // 1 deg/s
+  int path_samples = 200;  // [assumed] eq. 9 path samples checked by the preview (0.5 % of the move apart)
+};
+
+struct JogVerdict {
+  bool accepted = false;
+  std::string reason;                       // why it was refused (empty when accepted)
+  Eigen::Isometry3d X_FM_start = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d X_FM_end = Eigen::Isometry3d::Identity();
+  double duration_s = 0;
+  double peak_speed = 0;                    // m/s or rad/s
+  robot::RsrLimitCheck tightest{};          // the smallest margin met along the path
+};
+
+// The eq. 9 request of a jog (the change in F) and its duration. Throws std::invalid_argument naming the field on a
+// non-finite amount, a non-positive duration or speed.
+transfer::TimedMoveRequest ToTimedMoveRequest(const JogRequest& request, double start_time_s);
+double JogDuration(const JogRequest& request);
+
+// The preview: the path from X_FM_start, sampled, checked against the joint limits and the caps.
+JogVerdict PreviewJog(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM_start, const JogRequest& request,
+                      const JogLimits& limits);
+
+}  // namespace robossis::panel

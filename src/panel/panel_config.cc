@@ -1,0 +1,23 @@
+#include "src/panel/panel_config.h"
+
+#include "src/core/config.h"
+
+namespace robossis::panel {
+
+PanelConfig PanelConfig::FromYaml(const std::filesystem::path& file) {
+  const ConfigNode root = ConfigNode::Load(file);
+  PanelConfig config;
+  const ConfigNode window = root.Child("window");
+  config.window_width_px = static_cast<int>(window.NumberInRange("width_px", 320, 7680));
+  config.window_height_px = static_cast<int>(window.NumberInRange("height_px", 240, 4320));
+  const ConfigNode plots = root.Child("plots");
+  config.plot_window_s = plots.NumberInRange("window_s", 0.5, 600);
+  config.plot_capacity_samples = static_cast<int>(plots.NumberInRange("capacity_samples", 16, 1e6));
+  config.jog_path_samples = static_cast<int>(root.Child("jog").NumberInRange("path_samples", 2, 1e6));
+  const ConfigNode sim = root.Child("simulated_follower");
+  config.sim_loop_rate_hz = sim.NumberInRange("loop_rate_hz", 10, 20000);
+  config.sim_with_gravity = sim.Bool("with_gravity");
+  return config;
+}
+
+}  // namespace robossis::panel

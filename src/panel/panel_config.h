@@ -1,0 +1,21 @@
+#pragma once
+// Settings of the control panel, loaded once from data/config/panel.yaml and validated there.
+
+#include <filesystem>
+
+namespace robossis::panel {
+
+struct PanelConfig {
+  int window_width_px = 1600;
+  int window_height_px = 900;
+  double plot_window_s = 10;
+  int plot_capacity_samples = 2000;
+  int jog_path_samples = 200;
+  double sim_loop_rate_hz = 1000;
+  bool sim_with_gravity = true;
+
+  // Throws std::runtime_error naming the file and key.
+  static PanelConfig FromYaml(const std::filesystem::path& file);
+};
+
+}  // namespace robossis::panel

@@ -1,0 +1,68 @@
+// Frame time of the control panel on Mesa's software renderer (llvmpipe), at 1920x1080 (the goal: p99 <=
+// 33 ms, i.e. 30 frames/s) and, in the same run, with the heavy parts of the 3-D view left out and at 1280x720.
+// Needs a display: run it under `xvfb-run -a -s '-screen 0 1920x1080x24'` (see BENCHMARKS.md). Each iteration is
+// one whole frame (snapshots, draw, present, glFinish), over the panel's simulated follower running its 1 kHz loop.
+// Counters: p50_ms, p99_ms (over the iterations) and p99_budget = p99 / 33.3 ms.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "haptics/transfer/transfer_config.h"
+#include "robot/sim/sim_config.h"
+#include "src/apps/panel/panel_window.h"
+#include "src/core/config.h"
+#include "src/panel/simulated_follower_backend.h"
+
+namespace {
+
+using namespace robossis;
+
+void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool slice) {
+  const std::filesystem::path config = DefaultDataDir() / "config";
+  const transfer::TransferConfig transfer = transfer::TransferConfig::FromYaml(config / "transfer.yaml");
+  const sim::SimConfig sim_config = sim::LoadSimConfig(config / "sim.yaml", DefaultDataDir());
+  apps::PanelModels models{robot::RsrModel::FromYaml(config / "rsr.yaml"),
+                           robot::Sigma7Model::FromYaml(config / "sigma7.yaml"),
+                           panel::PanelConfig::FromYaml(config / "panel.yaml"),
+                           {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
+                           nullptr};
+  if (bone) models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
+  panel::SimulatedFollowerBackend backend(models.rsr, sim_config, true, panel::JogLimits{}, 1000);
+  backend.Start();
+  backend.SendCommand(teleop::StateCommand::kHome);
+  apps::PanelWindowOptions options;
+  options.width_px = width;
+  options.height_px = height;
+  options.vsync = false;
+  options.workspace_slice = slice;
+  // A jog in progress, so that the pose, the gauges and the plots change every frame.
+  options.script = panel::ParseScript("0.3 set jog.axis x\n0.3 set jog.amount 20\n0.3 set jog.duration_s 30\n"
+                                      "0.4 click jog.go\n",
+                                      "bench");
+  apps::PanelWindow window(backend, models, options);
+  // Warm-up: the first frames build the font atlas, and the workspace slice arrives after ~0.1-1 s.
+  const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (std::chrono::steady_clock::now() < warm_until) window.Frame();
+  std::vector<double> ms;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    window.Frame();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  auto at = [&](double q) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
+  state.counters["p50_ms"] = at(0.50);
+  state.counters["p99_ms"] = at(0.99);
+  state.counters["p99_budget"] = at(0.99) / (1000.0 / 30.0);
+  backend.Stop();
+}
+
+BENCHMARK_CAPTURE(PanelFrame, full_1920x1080, 1920, 1080, true, true)->Unit(benchmark::kMillisecond)->Iterations(300);
+BENCHMARK_CAPTURE(PanelFrame, no_bone_no_slice_1920x1080, 1920, 1080, false, false)
+    ->Unit(benchmark::kMillisecond)->Iterations(300);
+BENCHMARK_CAPTURE(PanelFrame, full_1280x720, 1280, 720, true, true)->Unit(benchmark::kMillisecond)->Iterations(300);
+
+}  // namespace

@@ -1,0 +1,187 @@
+// The panel window under Xvfb (Mesa's software renderer), driven by scripts as a person would drive it. Each test
+// runs `xvfb-run -a robossis panel ...`: xvfb-run starts a private X server and always stops it when the panel
+// exits; `timeout` bounds a hung run.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "robot/rsr_model.h"
+#include "src/core/config.h"
+#include "src/core/units.h"
+
+namespace {
+
+struct PanelRun {
+  int exit_code = -1;
+  std::string output;
+  nlohmann::json json;
+};
+
+std::filesystem::path TestDir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("robossis_panel_test_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Writes the script and runs the panel over it with --json. stderr is kept apart so stdout parses.
+PanelRun RunPanel(const std::filesystem::path& dir, const std::string& script, const std::string& extra = "") {
+  const std::filesystem::path script_file = dir / "script.txt";
+  std::ofstream(script_file) << script;
+  const std::string command = "timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(ROBOSSIS_BINARY) +
+                              " panel --script " + script_file.string() + " --json " + extra + " 2>" +
+                              (dir / "stderr.txt").string();
+  PanelRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (run.exit_code == 0) run.json = nlohmann::json::parse(run.output, nullptr, false);
+  if (run.exit_code != 0) {
+    std::ifstream err(dir / "stderr.txt");
+    run.output += std::string(std::istreambuf_iterator<char>(err), {});
+  }
+  return run;
+}
+
+double HomeZmm() {
+  const robossis::robot::RsrModel model =
+      robossis::robot::RsrModel::FromYaml(robossis::DefaultDataDir() / "config" / "rsr.yaml");
+  return robossis::MToMm(model.geometry().X_FM_home.translation().z());
+}
+
+TEST(PanelWindow, AScriptedJogMovesTheSimulatedFollowerByTheRequestedAmount) {
+  const auto dir = TestDir("jog");
+  const PanelRun run = RunPanel(dir,
+                                "0.2 click home\n"
+                                "0.8 set jog.axis z\n"
+                                "0.8 set jog.amount 5\n"
+                                "0.8 set jog.timing duration\n"
+                                "0.8 set jog.duration_s 1\n"
+                                "1.0 click jog.go\n"
+                                "3.5 quit\n",
+                                "--no-slice");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_FALSE(run.json.is_discarded()) << run.output;
+  EXPECT_EQ(run.json["state"], "ready");
+  EXPECT_EQ(run.json["message"], "");
+  const auto pose = run.json["pose_mm_deg"];
+  EXPECT_NEAR(pose[2].get<double>() - HomeZmm(), 5.0, 0.1) << run.output;
+  EXPECT_NEAR(pose[0].get<double>(), 0.0, 0.1);
+  EXPECT_NEAR(pose[1].get<double>(), 0.0, 0.1);
+  EXPECT_GT(run.json["setpoints_accepted"].get<int>(), 0);
+}
+
+TEST(PanelWindow, ARefusedMoveLeavesTheRobotStill) {
+  const auto dir = TestDir("refused");
+  const PanelRun run = RunPanel(dir,
+                                "0.2 click home\n"
+                                "0.8 set jog.axis z\n"
+                                "0.8 set jog.amount 200\n"
+                                "0.8 set jog.duration_s 100\n"
+                                "1.0 click jog.go\n"
+                                "2.5 quit\n",
+                                "--no-slice --no-bone");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.json["state"], "ready");
+  EXPECT_NE(run.json["message"].get<std::string>().find("leaves the workspace"), std::string::npos) << run.output;
+  EXPECT_EQ(run.json["setpoints_accepted"].get<int>(), 0);
+  EXPECT_NEAR(run.json["pose_mm_deg"][2].get<double>(), HomeZmm(), 0.05);
+}
+
+TEST(PanelWindow, TheEStopLatches) {
+  const auto dir = TestDir("estop");
+  const PanelRun run = RunPanel(dir,
+                                "0.2 click home\n"
+                                "0.8 set jog.amount 10\n"
+                                "0.8 set jog.duration_s 4\n"
+                                "1.0 click jog.go\n"
+                                "1.8 click estop\n"
+                                "2.2 click enable\n"
+                                "2.4 click home\n"
+                                "2.6 click jog.go\n"
+                                "3.5 quit\n",
+                                "--no-slice --no-bone");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.json["state"], "estop");
+  EXPECT_EQ(run.json["fault_reason"], "estop");
+  EXPECT_NE(run.json["message"].get<std::string>().find("estop"), std::string::npos) << run.output;
+  const double moved_mm = run.json["pose_mm_deg"][2].get<double>() - HomeZmm();
+  EXPECT_GT(moved_mm, 0.1);  // the jog had started
+  EXPECT_LT(moved_mm, 9.0);  // and was stopped before its end
+}
+
+TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
+  const auto dir = TestDir("haptic");
+  const PanelRun run = RunPanel(dir,
+                                "0.2 click home\n"
+                                "0.8 click haptic.on\n"
+                                "1.0 set haptic.caps demonstration\n"  // refused: not clutched
+                                "1.2 click haptic.clutch\n"
+                                "1.4 set haptic.method proxy\n"
+                                "1.6 set haptic.caps demonstration\n"
+                                "2.5 quit\n",
+                                "--no-slice --no-bone");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.json["state"], "clutched");
+  EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
+  EXPECT_EQ(run.json["haptic"]["method"], "proxy");
+  EXPECT_TRUE(run.json["haptic"]["clutched"].get<bool>());
+}
+
+TEST(PanelWindow, AnUnknownScriptActionIsAnErrorNamingTheLine) {
+  const auto dir = TestDir("unknown");
+  const PanelRun run = RunPanel(dir, "0.1 click nothing.here\n1.0 quit\n", "--no-slice --no-bone");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("robossis: error: --script line 1"), std::string::npos) << run.output;
+}
+
+TEST(PanelWindow, ScreenshotsAreNotBlankAndShowTheRobot) {
+  const auto dir = TestDir("screenshot");
+  const std::string shot = (dir / "panel.png").string();
+  const std::string mid = (dir / "mid.png").string();
+  const PanelRun run = RunPanel(dir, "0.2 click home\n1.5 screenshot " + mid + "\n2.0 quit\n",
+                                "--width 1600 --height 900 --screenshot " + shot);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_EQ(run.json["screenshots"].size(), 2u);
+  for (const std::string& path : {mid, shot}) {
+    const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+    ASSERT_FALSE(image.empty()) << path;
+    EXPECT_EQ(image.cols, 1600);
+    EXPECT_EQ(image.rows, 900);
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(image, mean, stddev);
+    EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 30) << "a blank screenshot: " << path;
+    // The robot view (between the controls and the numbers) holds the moving ring's colour (240, 190, 60 RGB)
+    // and the arms' (120, 220, 140 RGB).
+    int ring = 0, arm = 0, bone = 0;
+    for (int r = 64; r < image.rows; ++r) {
+      for (int c = 380; c < image.cols - 540; ++c) {
+        const cv::Vec3b bgr = image.at<cv::Vec3b>(r, c);
+        auto near = [&](int R, int G, int B) {
+          return std::abs(bgr[2] - R) < 12 && std::abs(bgr[1] - G) < 12 && std::abs(bgr[0] - B) < 12;
+        };
+        ring += near(240, 190, 60);
+        arm += near(120, 220, 140);
+        bone += bgr[2] > 150 && bgr[1] > 120 && bgr[0] > 90 && bgr[2] >= bgr[0] + 20;  // bone tones
+      }
+    }
+    EXPECT_GT(ring, 200) << path;
+    EXPECT_GT(arm, 200) << path;
+    EXPECT_GT(bone, 500) << path;
+  }
+}
+
+}  // namespace
