@@ -24,8 +24,10 @@ class DdsLeaderLink final : public teleop::LeaderLink {
   explicit DdsLeaderLink(const LinkOptions& options);
   ~DdsLeaderLink() override;
 
+  // One producer thread only (the leader's loop): the newest set-point is handed over through a seqlock.
   void SendSetPoint(const teleop::SetPointMessage& message) noexcept override;
   bool TakeFollowerStatus(teleop::FollowerStatusMessage& message) noexcept override;
+  // One producer thread only (the commands go through a single-producer queue): the leader's loop, or the panel's.
   bool SendCommand(const teleop::StateCommandMessage& message) noexcept override;
 
   LeaderLinkStatistics Statistics() const noexcept;

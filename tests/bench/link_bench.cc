@@ -26,14 +26,23 @@ using namespace robossis;
 
 std::int64_t NowNs(const rt::Clock& c) { return static_cast<std::int64_t>(std::llround(c.NowS() * 1e9)); }
 
+// Credentials made once per run, removed at exit.
+struct BenchKeys {
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("robossis-link-bench-keys-" + std::to_string(getpid()));
+  BenchKeys() {
+    std::filesystem::remove_all(dir);
+    link::InitKeys(dir, {});
+  }
+  ~BenchKeys() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
 const std::filesystem::path& Keys() {
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("robossis-link-bench-keys-" + std::to_string(getpid()));
-    std::filesystem::remove_all(d);
-    link::InitKeys(d, {});
-    return d;
-  }();
-  return dir;
+  static const BenchKeys keys;
+  return keys.dir;
 }
 
 link::LinkOptions Options(link::Role role, bool secure) {

@@ -313,3 +313,30 @@ TEST(DdsLinkRestart, ARestartedLeaderIsANewSessionAndARestartedFollowerHearsTheL
 
 }  // namespace
 }  // namespace robossis::link
+
+namespace robossis::link {
+namespace {
+
+TEST(DdsLink, ALeaderWithCredentialsFromAnotherCaIsNotHeard) {
+  const std::filesystem::path foreign =
+      std::filesystem::temp_directory_path() / ("robossis-link-test-foreign-" + std::to_string(getpid()));
+  std::filesystem::remove_all(foreign);
+  InitKeys(foreign, KeysInitOptions{});  // a valid set of credentials, signed by a different CA
+  {
+    rt::MonotonicClock clock;
+    DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
+    LinkOptions o = LoopbackOptions(Role::kLeader);
+    o.keys_dir = foreign;
+    DdsLeaderLink impostor(o);
+    for (std::uint64_t i = 1; i <= 1500; ++i) {  // 1.5 s
+      impostor.SendSetPoint(MakeSetPoint(13, i, NowNs(clock)));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_EQ(follower.Statistics().setpoints_received, 0u);
+    EXPECT_EQ(impostor.Statistics().followers_matched, 0u);
+  }
+  std::filesystem::remove_all(foreign);
+}
+
+}  // namespace
+}  // namespace robossis::link

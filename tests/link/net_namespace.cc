@@ -15,7 +15,15 @@ void Shell(const std::string& command) {
   if (std::system(command.c_str()) != 0) throw std::runtime_error("command failed: " + command);
 }
 
-bool CanMakeNamespaces() { return geteuid() == 0 && std::system("ip netns list > /dev/null 2>&1") == 0; }
+bool CanMakeNamespaces() {
+  if (geteuid() != 0) return false;
+  // Try it: root in a container may still lack the right to make namespaces or veth pairs.
+  const std::string probe = "rbs-probe-" + std::to_string(getpid());
+  const bool ok = std::system(("ip netns add " + probe + " > /dev/null 2>&1 && ip -n " + probe +
+                               " link add p0 type veth peer name p1 > /dev/null 2>&1").c_str()) == 0;
+  std::system(("ip netns del " + probe + " > /dev/null 2>&1").c_str());
+  return ok;
+}
 
 NetNamespace::NetNamespace(std::string name) : name_(std::move(name)) {
   std::system(("ip netns del " + name_ + " > /dev/null 2>&1").c_str());  // a leftover of a crashed run

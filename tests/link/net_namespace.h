@@ -26,7 +26,7 @@ class NetNamespace {
   std::string name_;
 };
 
-// True if this process may make namespaces (root, and `ip` works).
+// True if this process may make namespaces and veth pairs (tried once with a probe namespace).
 bool CanMakeNamespaces();
 
 }  // namespace robossis::link::testing
