@@ -15,8 +15,10 @@ std::shared_ptr<SharedLibrary> SharedLibrary::OpenFirst(const std::string& what,
     if (void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) {
       return std::shared_ptr<SharedLibrary>(new SharedLibrary(handle, path));
     }
-    const char* reason = dlerror();
-    tried += "\n  " + path + ": " + (reason ? reason : "not found");
+    const char* error = dlerror();
+    const std::string reason = error != nullptr ? error : "not found";
+    // dlerror names the file already when it was looked up by path.
+    tried += "\n  " + (reason.rfind(path, 0) == 0 ? reason : path + ": " + reason);
   }
   throw std::runtime_error(what + " not found; tried:" + tried);
 }
