@@ -10,7 +10,8 @@
 namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods() {
-  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live", "mesh-proxy", "proxy", "proxy-safe", "proxy-pc"};
+  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live",
+          "mesh-proxy", "proxy", "proxy-safe", "proxy-pc"};
 }
 
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,

@@ -2,9 +2,10 @@
 """Writes the fast-motion replay trajectories used by the rendering comparison and the tests.
 
 Each CSV is a hand trajectory in RSR space (header t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg; absolute pose of
-the moving ring in the fixed-ring frame F, home = (0, 0, 284 mm, 0, 0, 0)), continuous, far faster than the clinical motion and
-reaching far beyond the workspace (the replay's first pose is the clutch anchor, and the sigma.7's delta reaches
-about ±100 mm around it, so a translational replay starts near the edge it goes beyond), so that every method spends most of the time in deep, fast contact:
+the moving ring in the fixed-ring frame F, home = (0, 0, 284 mm, 0, 0, 0)), continuous, far faster than the
+clinical motion and reaching far beyond the workspace (the replay's first pose is the clutch anchor, and the
+sigma.7's delta reaches about ±100 mm around it, so a translational replay starts near the edge it goes beyond),
+so that every method spends most of the time in deep, fast contact:
 
   fast_translation.csv  from 80 mm along +x (the +x edge at home is at 132 mm), a figure-eight of ±90 mm in x and
                         y at 0.5 / 1 Hz (up to ≈ 400 mm/s, 40 mm beyond the edge) with a ±50 mm z swing, then a
