@@ -330,6 +330,47 @@ TransferTrace RunMoveChain(const std::vector<transfer::TimedMoveRequest>& moves,
   return tr;
 }
 
+FollowerReplay ReplayOnFollower(const TransferTrace& trace, const robot::RsrModel& model, robot::Follower& follower,
+                                const Eigen::Isometry3d& X_FM_start, double step_s, double t_end, int csv_every) {
+  if (trace.q.empty()) throw std::invalid_argument("replay: the trace has no joint commands");
+  FollowerReplay r;
+  r.csv = "t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,meas_x_mm,meas_y_mm,meas_z_mm,translation_error_mm,rotation_error_deg\n";
+  const auto num = [](double v, const char* format) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, format, v);
+    return std::string(buf);
+  };
+  double sum_e_p = 0, sum_e_r = 0;
+  std::size_t k = 0;
+  Eigen::Isometry3d X_cmd = X_FM_start;
+  for (long n = 1; n * step_s <= t_end + 1e-12; ++n) {
+    const double t_next = n * step_s;
+    while (k + 1 < trace.t.size() && trace.t[k + 1] <= t_next + 1e-12) ++k;
+    follower.Command(robot::RsrJointCommand{trace.t[k], trace.q[k], trace.q_dot[k]});
+    follower.Service(t_next);
+    const robot::RsrFollowerState state = follower.State();
+    if (state.fault == robot::FollowerFault::kUnstable) throw std::runtime_error("replay: the simulation became unstable");
+    const robot::RsrFkResult fk = robot::CalcForwardKinematics(model, trace.q[k], X_cmd);
+    if (!fk.converged()) throw std::runtime_error("replay: FK of the commanded joints did not converge");
+    X_cmd = fk.X_FM;
+    const double e_p = (state.X_FM.translation() - X_cmd.translation()).norm();
+    const double e_r = RotationAngleBetween(state.X_FM.linear(), X_cmd.linear());
+    r.max_translation_error_m = std::max(r.max_translation_error_m, e_p);
+    r.max_rotation_error_rad = std::max(r.max_rotation_error_rad, e_r);
+    sum_e_p += e_p, sum_e_r += e_r, ++r.steps;
+    r.duration_s = t_next;
+    if (r.steps % csv_every == 0) {
+      const Eigen::Vector3d c = X_cmd.translation() * kMToMm, m = state.X_FM.translation() * kMToMm;
+      r.csv += num(t_next, "%.4f") + "," + num(c.x(), "%.4f") + "," + num(c.y(), "%.4f") + "," + num(c.z(), "%.4f") +
+               "," + num(m.x(), "%.4f") + "," + num(m.y(), "%.4f") + "," + num(m.z(), "%.4f") + "," +
+               num(MToMm(e_p), "%.3e") + "," + num(RadToDeg(e_r), "%.3e") + "\n";
+    }
+  }
+  r.mean_translation_error_m = sum_e_p / std::max<long>(r.steps, 1);
+  r.mean_rotation_error_rad = sum_e_r / std::max<long>(r.steps, 1);
+  return r;
+}
+
 nlohmann::ordered_json SummaryJson(const TransferSummary& s) {
   nlohmann::ordered_json j;
   j["max_speed_mm_s"] = s.max_speed_mm_s;

@@ -92,6 +92,21 @@ TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetu
 TransferTrace RunMoveChain(const std::vector<transfer::TimedMoveRequest>& moves, const std::vector<double>& durations,
                            const ChainSetup& setup);
 
+// A trace's 10 kHz joint commands played into a follower back end (the Bullet simulation, a driver) through
+// robot::Follower, one back-end step of `step_s` at a time (each step gets the newest command issued by then), and
+// the pose the back end measures compared with the pose the commanded joints define (FK, warm-started).
+struct FollowerReplay {
+  double duration_s = 0;
+  double max_translation_error_m = 0, mean_translation_error_m = 0;
+  double max_rotation_error_rad = 0, mean_rotation_error_rad = 0;
+  long steps = 0;
+  // Every `csv_every`-th step: t_s, commanded and measured position (mm), the errors (mm, deg).
+  std::string csv;
+};
+// Throws std::runtime_error if the back end becomes unstable or the FK of a command does not converge.
+FollowerReplay ReplayOnFollower(const TransferTrace& trace, const robot::RsrModel& model, robot::Follower& follower,
+                                const Eigen::Isometry3d& X_FM_start, double step_s, double t_end, int csv_every = 10);
+
 // summary.json: the keys first, then the details.
 nlohmann::ordered_json SummaryJson(const TransferSummary& s);
 
