@@ -28,6 +28,16 @@ PanelModels LoadPanelModels(const AppContext& context, bool with_bone) {
   return models;
 }
 
+panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& models) {
+  transfer::SpeedCaps caps;
+  caps.max_linear_speed_m_s = models.demonstration_caps.max_linear_speed_m_s;
+  caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
+  panel::JogLimits limits;
+  limits.setpoint = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps).setpoint;
+  limits.path_samples = models.config.jog_path_samples;
+  return limits;
+}
+
 void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
   struct Options {
     std::string script;
@@ -66,13 +76,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     window.workspace_slice = !options->no_slice;
 
     const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
-    // The jog's limits are the follower's own (follower.yaml, the caps from transfer.yaml).
-    transfer::SpeedCaps caps;
-    caps.max_linear_speed_m_s = models.demonstration_caps.max_linear_speed_m_s;
-    caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
-    panel::JogLimits limits;
-    limits.setpoint = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps).setpoint;
-    limits.path_samples = models.config.jog_path_samples;
+    const panel::JogLimits limits = LoadJogLimits(context, models);
     panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, limits,
                                             models.config.sim_loop_rate_hz);
     backend.Start();
