@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "geometry/live_boundary.h"
+#include "haptics/transfer/transfer_config.h"
 
 namespace robossis::panel {
 
@@ -18,7 +18,8 @@ SpeedCapPreset SpeedCapPresetFromString(const std::string& name) {
 
 SpeedCapValues CapValues(SpeedCapPreset preset, const SpeedCapValues& demonstration) {
   if (preset == SpeedCapPreset::kDemonstration) return demonstration;
-  return {geometry::kClinicalLinearSpeedMps, geometry::kClinicalAngularSpeedRadps};  // [paper §V] 2 mm/s, 0.2 deg/s
+  const transfer::SpeedCaps clinical = transfer::ClinicalSpeedCaps();  // [paper §V] 2 mm/s, 0.2 deg/s
+  return {clinical.max_linear_speed_m_s, clinical.max_angular_speed_rad_s};
 }
 
 HapticModeModel::HapticModeModel(std::vector<std::string> methods, const SpeedCapValues& demonstration_caps)

@@ -2,11 +2,10 @@
 // Manual jogs of the control panel (paper Fig. 13): one axis, an amount, and either the time interval or the speed
 // of the move, executed as the eq. 9 timed move (haptics/transfer/timed_move.h) from the follower's current pose.
 //
-// Before a jog starts the panel previews it against the workspace: the whole eq. 9 path is sampled and every
-// sample's inverse kinematics (eq. 5–8) must be within every joint limit; a jog that would leave the workspace, or
-// whose peak speed would break the follower's caps, is refused with the reason. The follower unit checks every
-// set-point of the move again on its own validated path; the preview only spares the operator a move that would be
-// stopped half-way.
+// Before a jog starts the panel previews it: the whole eq. 9 path is sampled and every sample goes through the one
+// validated motion path (teleop::SetPointValidator: finite, inside the workspace by the exact IK eq. 5–8, within
+// the speed and acceleration caps); a jog that would leave the workspace or break a cap is refused with the reason.
+// The follower checks every set-point of the move again on the same path as it runs.
 
 #include <string>
 
@@ -15,6 +14,7 @@
 #include "haptics/transfer/timed_move.h"
 #include "robot/rsr_kinematics.h"
 #include "robot/rsr_model.h"
+#include "src/teleop/setpoint_validator.h"
 
 namespace robossis::panel {
 
@@ -34,11 +34,10 @@ struct JogRequest {
   double peak_speed = 0;             // m/s or rad/s, used with kSpeed: eq. 9's peak speed pi/2 · |dx| / dt
 };
 
-// The speed caps a jog must respect (the follower's caps, transfer.yaml `caps`).
+// What a jog must respect: the follower's set-point limits (follower.yaml, caps from transfer.yaml).
 struct JogLimits {
-  double max_linear_speed_m_s = 0.010;
-  double max_angular_speed_rad_s = 0.0174532925199432958;  // 1 deg/s
-  int path_samples = 200;  // [assumed] eq. 9 path samples checked by the preview (0.5 % of the move apart)
+  teleop::SetPointLimits setpoint;
+  int path_samples = 200;  // panel.yaml jog.path_samples: eq. 9 path samples the preview checks
 };
 
 struct JogVerdict {

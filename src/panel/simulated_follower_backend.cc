@@ -34,7 +34,8 @@ SimulatedFollowerBackend::SimulatedFollowerBackend(const robot::RsrModel& model,
       jog_limits_(jog_limits),
       period_s_(1.0 / loop_rate_hz),
       sim_(std::make_unique<sim::RsrSimulation>(model, sim_config, nullptr, nullptr, model.geometry().X_FM_home,
-                                                MechanismOnly(gravity))) {
+                                                MechanismOnly(gravity))),
+      validator_(model_, jog_limits.setpoint) {
   sim_->Disable();  // the follower starts DISABLED, drives holding
   X_hold_ = model.geometry().X_FM_home;
   health_record_.period_s = period_s_;
@@ -157,6 +158,7 @@ void SimulatedFollowerBackend::Latch(OperatingState state, FaultReason reason) n
   move_.reset();
   X_hold_ = sim_->State().X_FM;
   sim_->Disable();  // drives hold where they are
+  validator_.Reset();  // the next set-point re-anchors
 }
 
 void SimulatedFollowerBackend::ApplyCommand(StateCommand command) noexcept {
@@ -169,6 +171,7 @@ void SimulatedFollowerBackend::ApplyCommand(StateCommand command) noexcept {
       if (!latched) break;
       if (!sim_->ResetFault() && sim_->State().faulted()) break;  // the cause is still there
       X_hold_ = sim_->State().X_FM;
+      validator_.Reset();
       if (sim_->Enable()) {
         state_ = OperatingState::kReady;
         fault_ = FaultReason::kNone;
@@ -180,6 +183,7 @@ void SimulatedFollowerBackend::ApplyCommand(StateCommand command) noexcept {
       move_.reset();
       X_hold_ = sim_->State().X_FM;
       sim_->Disable();
+      validator_.Reset();
       state_ = OperatingState::kDisabled;
       break;
     case StateCommand::kHome:
@@ -224,12 +228,17 @@ void SimulatedFollowerBackend::ApplyHapticRequest(const HapticModeRequest& reque
 
 void SimulatedFollowerBackend::CommandPose(const Eigen::Isometry3d& X_FM, const Vector6d& twist,
                                            double now_s) noexcept {
-  const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, X_FM);  // eq. 5–8
-  if (!ik.feasible) {  // never command an infeasible pose: hold and latch
+  // The one validated path (workspace by the exact IK, caps); a refused set-point holds and latches.
+  const teleop::SetPointVerdict verdict = validator_.Check({now_s, X_FM, twist});
+  if (verdict != teleop::SetPointVerdict::kAccepted) {
     ++setpoints_rejected_;
-    Latch(OperatingState::kFault, FaultReason::kSetPointInvalid);
+    Latch(OperatingState::kFault, verdict == teleop::SetPointVerdict::kTooFast ||
+                                          verdict == teleop::SetPointVerdict::kTooAccelerating
+                                      ? FaultReason::kSetPointTooFast
+                                      : FaultReason::kSetPointInvalid);
     return;
   }
+  const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, X_FM);  // eq. 5–8: the joints to command
   robot::RsrJointCommand command;
   command.time_s = now_s;
   command.q = ik.joints.actuated();
@@ -256,6 +265,7 @@ void SimulatedFollowerBackend::Step(double now_s) noexcept {
 
   if (state_ == OperatingState::kHoming && sim_->Home() && sim_->Enable()) {
     X_hold_ = sim_->State().X_FM;
+    validator_.Reset();
     state_ = OperatingState::kReady;
   }
   const bool powered = state_ == OperatingState::kReady || state_ == OperatingState::kEnabled ||

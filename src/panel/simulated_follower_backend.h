@@ -26,6 +26,7 @@
 #include "src/core/rt/snapshot.h"
 #include "src/core/rt/spsc_queue.h"
 #include "src/panel/panel_backend.h"
+#include "src/teleop/setpoint_validator.h"
 
 namespace robossis::panel {
 
@@ -70,6 +71,7 @@ class SimulatedFollowerBackend final : public PanelBackend {
   const JogLimits jog_limits_;
   const double period_s_;
   std::unique_ptr<sim::RsrSimulation> sim_;
+  teleop::SetPointValidator validator_;  // loop thread: every commanded pose goes through it
 
   // Panel → loop.
   rt::SpscQueue<teleop::StateCommandMessage> commands_{64};

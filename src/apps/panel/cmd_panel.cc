@@ -11,6 +11,7 @@
 #include "src/core/units.h"
 #include "src/panel/simulated_follower_backend.h"
 #include "src/panel/view_model.h"
+#include "src/teleop/follower_config.h"
 
 namespace robossis::apps {
 
@@ -25,6 +26,16 @@ PanelModels LoadPanelModels(const AppContext& context, bool with_bone) {
     models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
   }
   return models;
+}
+
+panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& models) {
+  transfer::SpeedCaps caps;
+  caps.max_linear_speed_m_s = models.demonstration_caps.max_linear_speed_m_s;
+  caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
+  panel::JogLimits limits;
+  limits.setpoint = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps).setpoint;
+  limits.path_samples = models.config.jog_path_samples;
+  return limits;
 }
 
 void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
@@ -65,8 +76,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     window.workspace_slice = !options->no_slice;
 
     const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
-    panel::JogLimits limits{models.demonstration_caps.max_linear_speed_m_s,
-                            models.demonstration_caps.max_angular_speed_rad_s, models.config.jog_path_samples};
+    const panel::JogLimits limits = LoadJogLimits(context, models);
     panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, limits,
                                             models.config.sim_loop_rate_hz);
     backend.Start();

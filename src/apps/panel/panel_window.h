@@ -73,6 +73,14 @@ class PanelWindow {
   std::unique_ptr<Impl> impl_;
 };
 
+struct AppContext;  // src/apps/app_context.h
+
+// For `robossis panel` and `robossis teleop --panel` alike (src/apps/panel/cmd_panel.cc): the models, panel.yaml,
+// the demonstration caps (transfer.yaml) and, with_bone, the femur fragments to draw; and the jog limits, which are
+// the follower's own (follower.yaml, caps from transfer.yaml). Throw std::runtime_error naming the file and key.
+PanelModels LoadPanelModels(const AppContext& context, bool with_bone);
+panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& models);
+
 // Opens the window, runs until it is closed, the script quits or max_frames, and returns the frame statistics.
 // Throws std::runtime_error when no window can be opened, std::invalid_argument for a script action the panel does
 // not know (naming the script line).
