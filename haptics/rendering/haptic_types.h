@@ -94,6 +94,9 @@ class HapticRenderer {
   // Forget the history (filters, proxy, passivity observer) and start from the HC pose X_OH. Allocation-free.
   void Reset(const Eigen::Isometry3d& X_OH) noexcept;
   virtual const char* name() const noexcept = 0;
+  // The god-object's pose (X_FM, always inside the true workspace) for methods that keep one (proxy, mesh-proxy):
+  // where the robot is sent while the hand is beyond a wall. nullptr for methods without one.
+  virtual const Eigen::Isometry3d* constrained_pose() const noexcept { return nullptr; }
 
   // Re-clutch: a new HC → RSR mapping (outside the tick; call Reset afterwards).
   void SetMap(const HcToRsrMap& map) noexcept { map_ = map; }

@@ -58,6 +58,7 @@ class MeshProxyRenderer final : public HapticRenderer {
   const char* name() const noexcept override { return name_; }
   // The god-object pose (RSR side, frame F): always feasible by the exact IK; the set-point to send the follower.
   const Eigen::Isometry3d& proxy_pose() const { return X_FP_; }
+  const Eigen::Isometry3d* constrained_pose() const noexcept override { return &X_FP_; }
   void StepSimulatedBackground(double now_s) override;
 
   // Diagnostics of the last tick: whether each family's contact came from the mesh line search (true) or the

@@ -30,6 +30,7 @@ class ProxyRenderer final : public HapticRenderer {
 
   const char* name() const noexcept override { return name_; }
   const Eigen::Isometry3d& proxy_pose() const { return X_FP_; }
+  const Eigen::Isometry3d* constrained_pose() const noexcept override { return &X_FP_; }
 
  protected:
   HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept override;
