@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "src/apps/demo.h"
+#include "src/apps/demo_teleop_section.h"
 #include "src/apps/plotting.h"
 
 namespace robossis::apps {
@@ -51,7 +52,7 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
     using Section = void (*)(DemoContext&);
     const Section sections[] = {&WriteRobotSection,    &WriteWorkspaceSection, &WriteRenderingSection,
                                 &WriteTransferSection, &WriteSimSection,       &WriteTrackingSection,
-                                &WriteChainSection};
+                                &WriteChainSection,    &WriteTeleopSection};
     for (const Section section : sections) section(demo);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

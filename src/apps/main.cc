@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "src/apps/app_context.h"
+#include "src/apps/cmd_teleop.h"
 #include "src/core/config.h"
 
 int main(int argc, char** argv) {
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   apps::RegisterHalCommands(app, context);
   apps::RegisterKeysCommands(app, context);
   apps::RegisterPanelCommand(app, context);
+  apps::RegisterTeleopCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

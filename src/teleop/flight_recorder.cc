@@ -19,13 +19,67 @@ StreamSpec LeaderStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, tau_O, "N.m"),        ROBOSSIS_LOG_FIELD(R, p_goal, "m"),
       ROBOSSIS_LOG_FIELD(R, q_goal, ""),          ROBOSSIS_LOG_FIELD(R, p_sent, "m"),
       ROBOSSIS_LOG_FIELD(R, q_sent, ""),          ROBOSSIS_LOG_FIELD(R, p_follower, "m"),
-      ROBOSSIS_LOG_FIELD(R, q_follower, ""),      ROBOSSIS_LOG_FIELD(R, scale_linear, ""),
+      ROBOSSIS_LOG_FIELD(R, q_follower, ""),      ROBOSSIS_LOG_FIELD(R, ideal_disp, "m|rad"),
+      ROBOSSIS_LOG_FIELD(R, transfer_disp, "m|rad"),  ROBOSSIS_LOG_FIELD(R, scale_linear, ""),
       ROBOSSIS_LOG_FIELD(R, scale_angular, ""),   ROBOSSIS_LOG_FIELD(R, hc_speed_m_s, "m/s"),
       ROBOSSIS_LOG_FIELD(R, sequence, ""),        ROBOSSIS_LOG_FIELD(R, buttons, ""),
       ROBOSSIS_LOG_FIELD(R, device_status, ""),   ROBOSSIS_LOG_FIELD(R, haptic_status, ""),
       ROBOSSIS_LOG_FIELD(R, leader_state, ""),    ROBOSSIS_LOG_FIELD(R, follower_state, ""),
       ROBOSSIS_LOG_FIELD(R, flags, ""),           ROBOSSIS_LOG_FIELD(R, sent_this_tick, ""),
       ROBOSSIS_LOG_FIELD(R, stopped_at_boundary, ""), ROBOSSIS_LOG_FIELD(R, force_zeroed, ""),
+  };
+  return s;
+}
+
+StreamSpec FollowerStreamSpec() {
+  using R = FollowerTickRecord;
+  StreamSpec s;
+  s.id = kFollowerStream;
+  s.name = "follower";
+  s.record_size = sizeof(R);
+  s.fields = {
+      ROBOSSIS_LOG_FIELD(R, tick, ""),                 ROBOSSIS_LOG_FIELD(R, time_s, "s"),
+      ROBOSSIS_LOG_FIELD(R, setpoint_sequence, ""),    ROBOSSIS_LOG_FIELD(R, setpoint_p_FM, "m"),
+      ROBOSSIS_LOG_FIELD(R, setpoint_q_FM, ""),        ROBOSSIS_LOG_FIELD(R, setpoint_twist_F, "m/s|rad/s"),
+      ROBOSSIS_LOG_FIELD(R, setpoint_flags, ""),       ROBOSSIS_LOG_FIELD(R, cmd_p_FM, "m"),
+      ROBOSSIS_LOG_FIELD(R, cmd_q_FM, ""),             ROBOSSIS_LOG_FIELD(R, cmd_twist_F, "m/s|rad/s"),
+      ROBOSSIS_LOG_FIELD(R, cmd_joints, "rad|m"),      ROBOSSIS_LOG_FIELD(R, meas_p_FM, "m"),
+      ROBOSSIS_LOG_FIELD(R, meas_q_FM, ""),            ROBOSSIS_LOG_FIELD(R, meas_joints, "rad|m"),
+      ROBOSSIS_LOG_FIELD(R, effort, "N.m|N"),          ROBOSSIS_LOG_FIELD(R, meas_min_margin, "m|rad"),
+      ROBOSSIS_LOG_FIELD(R, state, ""),                ROBOSSIS_LOG_FIELD(R, reason, ""),
+      ROBOSSIS_LOG_FIELD(R, back_end_fault, ""),       ROBOSSIS_LOG_FIELD(R, took_setpoint, ""),
+      ROBOSSIS_LOG_FIELD(R, setpoint_verdict, ""),     ROBOSSIS_LOG_FIELD(R, guard_status, ""),
+      ROBOSSIS_LOG_FIELD(R, actuation_status, ""),     ROBOSSIS_LOG_FIELD(R, holding, ""),
+      ROBOSSIS_LOG_FIELD(R, meas_feasible, ""),
+  };
+  return s;
+}
+
+StreamSpec EndStreamSpec() {
+  using R = SessionEndRecord;
+  StreamSpec s;
+  s.id = kEndStream;
+  s.name = "end";
+  s.record_size = sizeof(R);
+  s.fields = {
+      ROBOSSIS_LOG_FIELD(R, elapsed_s, "s"),
+      ROBOSSIS_LOG_FIELD(R, leader_loop_ticks, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_overruns, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_period_jitter_us_p99, "us"),
+      ROBOSSIS_LOG_FIELD(R, leader_period_jitter_us_max, "us"),
+      ROBOSSIS_LOG_FIELD(R, leader_wake_latency_us_p99, "us"),
+      ROBOSSIS_LOG_FIELD(R, follower_loop_ticks, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_overruns, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_period_jitter_us_p99, "us"),
+      ROBOSSIS_LOG_FIELD(R, follower_period_jitter_us_max, "us"),
+      ROBOSSIS_LOG_FIELD(R, follower_wake_latency_us_p99, "us"),
+      ROBOSSIS_LOG_FIELD(R, watchdog_holds, ""),
+      ROBOSSIS_LOG_FIELD(R, setpoints_accepted, ""),
+      ROBOSSIS_LOG_FIELD(R, setpoints_rejected, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_records_dropped, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_records_dropped, ""),
+      ROBOSSIS_LOG_FIELD(R, device_failures, ""),
+      ROBOSSIS_LOG_FIELD(R, ik_rejected, ""),
   };
   return s;
 }

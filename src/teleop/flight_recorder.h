@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "src/teleop/follower_unit.h"
 #include "src/teleop/leader_unit.h"
 #include "src/teleop/session_log.h"
 
@@ -19,9 +20,35 @@ namespace robossis::teleop {
 
 inline constexpr std::uint8_t kLeaderStream = 0;
 inline constexpr std::uint8_t kFollowerStream = 1;
+inline constexpr std::uint8_t kEndStream = 2;
 
-// The layout of LeaderTickRecord, for the log's header.
+// What only the end of a run knows: the loops' own timing statistics and the units' counters. One record, written
+// last; a log without it is from a run that did not end (a crash).
+struct SessionEndRecord {
+  double elapsed_s = 0;
+  std::uint64_t leader_loop_ticks = 0;
+  std::uint64_t leader_overruns = 0;
+  double leader_period_jitter_us_p99 = 0;
+  double leader_period_jitter_us_max = 0;
+  double leader_wake_latency_us_p99 = 0;
+  std::uint64_t follower_loop_ticks = 0;
+  std::uint64_t follower_overruns = 0;
+  double follower_period_jitter_us_p99 = 0;
+  double follower_period_jitter_us_max = 0;
+  double follower_wake_latency_us_p99 = 0;
+  std::uint64_t watchdog_holds = 0;
+  std::uint64_t setpoints_accepted = 0;
+  std::uint64_t setpoints_rejected = 0;
+  std::uint64_t leader_records_dropped = 0;
+  std::uint64_t follower_records_dropped = 0;
+  std::uint64_t device_failures = 0;
+  std::uint64_t ik_rejected = 0;
+};
+
+// The layouts, for the log's header.
 StreamSpec LeaderStreamSpec();
+StreamSpec FollowerStreamSpec();
+StreamSpec EndStreamSpec();
 
 class FlightRecorder {
  public:

@@ -274,6 +274,10 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   PoseToArrays(X_sent_, r.p_sent, r.q_sent);
   r.p_follower = follower_.p_FM;
   r.q_follower = follower_.q_FM;
+  for (int i = 0; i < 6; ++i) {
+    r.ideal_disp[i] = transfer_.tick_info().goal[i];
+    r.transfer_disp[i] = transfer_.set_point().displacement[i];
+  }
   r.scale_linear = transfer_.tick_info().scale_linear;
   r.scale_angular = transfer_.tick_info().scale_angular;
   r.hc_speed_m_s = transfer_.tick_info().hc_speed_m_s;

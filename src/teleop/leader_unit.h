@@ -67,6 +67,8 @@ struct LeaderTickRecord {
   std::array<double, 4> q_sent{1, 0, 0, 0};
   std::array<double, 3> p_follower{};  // the follower's last measured pose
   std::array<double, 4> q_follower{1, 0, 0, 0};
+  std::array<double, 6> ideal_disp{};     // eq. 10–11 displacement from the start (the transfer's goal, unfiltered)
+  std::array<double, 6> transfer_disp{};  // the transfer's filtered set-point displacement (eq. 12), same frame
   double scale_linear = 1;             // eq. 11
   double scale_angular = 1;
   double hc_speed_m_s = 0;

@@ -1,0 +1,206 @@
+#include "src/teleop/session_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "src/core/units.h"
+
+namespace robossis::teleop {
+
+namespace {
+
+Eigen::Isometry3d Pose(const std::array<double, 3>& p, const std::array<double, 4>& q) { return PoseFromArrays(p, q); }
+
+template <std::size_t N>
+bool Finite(const std::array<double, N>& a) {
+  return std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); });
+}
+
+void Append(std::string& out, const char* fmt, double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  out += buf;
+}
+
+void AppendPose(std::string& out, const Eigen::Isometry3d& X) {
+  const Vector6d v = MmDegFromPose(X);
+  for (int i = 0; i < 6; ++i) Append(out, ",%.4f", v[i]);
+}
+
+double Norm3(const std::array<double, 3>& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+}  // namespace
+
+SessionSummary::SessionSummary(const SummaryOptions& options) : options_(options) {
+  leader_decimation_ = std::max(1, static_cast<int>(std::lround(options.leader_rate_hz / options.leader_csv_rate_hz)));
+  follower_decimation_ =
+      std::max(1, static_cast<int>(std::lround(options.follower_rate_hz / options.follower_csv_rate_hz)));
+  window_.resize(10);
+  leader_csv_ =
+      "t_s,hand_x_mm,hand_y_mm,hand_z_mm,hand_roll_deg,hand_pitch_deg,hand_yaw_deg,fx_n,fy_n,fz_n,tx_nm,ty_nm,tz_nm,"
+      "haptic_status,goal_x_mm,goal_y_mm,goal_z_mm,goal_roll_deg,goal_pitch_deg,goal_yaw_deg,sent_x_mm,sent_y_mm,"
+      "sent_z_mm,sent_roll_deg,sent_pitch_deg,sent_yaw_deg,stopped_at_boundary,leader_state,scale_linear,"
+      "hand_speed_mm_s\n";
+  follower_csv_ =
+      "t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,cmd_roll_deg,cmd_pitch_deg,cmd_yaw_deg,meas_x_mm,meas_y_mm,meas_z_mm,"
+      "meas_roll_deg,meas_pitch_deg,meas_yaw_deg,state,min_limit_margin_si,holding\n";
+}
+
+void SessionSummary::AddLeader(const LeaderTickRecord& r) {
+  if (leader_last_ns_ >= 0) ++leader_periods_us_[(r.t_ns - leader_last_ns_) / 1000];
+  leader_last_ns_ = r.t_ns;
+  if (!Finite(r.f_O) || !Finite(r.tau_O) || !Finite(r.p_sent) || !Finite(r.q_sent)) ++nonfinite_;
+  max_force_n_ = std::max(max_force_n_, Norm3(r.f_O));
+  max_torque_nm_ = std::max(max_torque_nm_, Norm3(r.tau_O));
+  max_hand_speed_m_s_ = std::max(max_hand_speed_m_s_, Norm3(r.v_O));
+  if (r.sent_this_tick) {
+    if (r.stopped_at_boundary) ++stopped_at_boundary_;
+    t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
+    ideal_.push_back(Eigen::Map<const Vector6d>(r.ideal_disp.data()));
+    transfer_.push_back(Eigen::Map<const Vector6d>(r.transfer_disp.data()));
+  }
+  if (r.leader_state != leader_state_) {
+    leader_transitions_.push_back({{"t_s", 1e-9 * static_cast<double>(r.t_ns)},
+                                   {"to", ToString(static_cast<LeaderState>(r.leader_state))}});
+    leader_state_ = r.leader_state;
+  }
+  if (leader_ticks_ % static_cast<std::uint64_t>(leader_decimation_) == 0) {
+    Append(leader_csv_, "%.4f", 1e-9 * static_cast<double>(r.t_ns));
+    AppendPose(leader_csv_, Pose(r.p_OH, r.q_OH));
+    for (double v : r.f_O) Append(leader_csv_, ",%.4f", v);
+    for (double v : r.tau_O) Append(leader_csv_, ",%.5f", v);
+    leader_csv_ += ',';
+    leader_csv_ += haptics::ToString(static_cast<haptics::HapticStatus>(r.haptic_status));
+    AppendPose(leader_csv_, Pose(r.p_goal, r.q_goal));
+    AppendPose(leader_csv_, Pose(r.p_sent, r.q_sent));
+    leader_csv_ += r.stopped_at_boundary ? ",1," : ",0,";
+    leader_csv_ += ToString(static_cast<LeaderState>(r.leader_state));
+    Append(leader_csv_, ",%.4f", r.scale_linear);
+    Append(leader_csv_, ",%.3f", MToMm(Norm3(r.v_O)));
+    leader_csv_ += '\n';
+  }
+  ++leader_ticks_;
+}
+
+void SessionSummary::AddFollower(const FollowerTickRecord& r) {
+  if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
+  follower_last_s_ = r.time_s;
+  if (!r.meas_feasible) ++limit_violations_;
+  min_margin_ = std::min(min_margin_, r.meas_min_margin);
+  if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
+  const Eigen::Isometry3d meas = Pose(r.meas_p_FM, r.meas_q_FM);
+  // Speeds over 10 ticks (1 ms at 10 kHz): finite differences of the measured pose.
+  if (follower_ticks_ >= window_.size()) {
+    const auto& [t0, X0] = window_[window_next_];
+    const double dt = r.time_s - t0;
+    if (dt > 0) {
+      max_speed_m_s_ = std::max(max_speed_m_s_, (meas.translation() - X0.translation()).norm() / dt);
+      max_angular_speed_rad_s_ =
+          std::max(max_angular_speed_rad_s_, RotationAngleBetween(meas.linear(), X0.linear()) / dt);
+    }
+  }
+  window_[window_next_] = {r.time_s, meas};
+  window_next_ = (window_next_ + 1) % window_.size();
+  const int state = static_cast<int>(r.state);
+  if (state != follower_state_) {
+    follower_transitions_.push_back({{"t_s", r.time_s},
+                                     {"from", follower_state_ < 0 ? "start" : ToString(static_cast<OperatingState>(follower_state_))},
+                                     {"to", ToString(r.state)},
+                                     {"reason", ToString(r.reason)}});
+    follower_state_ = state;
+  }
+  if (follower_ticks_ % static_cast<std::uint64_t>(follower_decimation_) == 0) {
+    Append(follower_csv_, "%.4f", r.time_s);
+    AppendPose(follower_csv_, Pose(r.cmd_p_FM, r.cmd_q_FM));
+    AppendPose(follower_csv_, meas);
+    follower_csv_ += ',';
+    follower_csv_ += ToString(r.state);
+    Append(follower_csv_, ",%.6f", r.meas_min_margin);
+    follower_csv_ += r.holding ? ",1\n" : ",0\n";
+  }
+  ++follower_ticks_;
+}
+
+// The lag (0–200 ms, in transfer periods) that best aligns the transfer's filtered set-point velocity with the
+// velocity of the eq. 10–11 displacement (the hand's motion after the dynamic scaling, before any filter): the
+// hand-to-set-point delay of the motion transfer. The linear part, unless the hand only turned.
+double SessionSummary::HandToSetPointDelayMs() const {
+  const std::size_t n = t_sent_.size();
+  if (n < 20) return 0;
+  const double dt = (t_sent_.back() - t_sent_.front()) / static_cast<double>(n - 1);
+  double lin = 0, ang = 0;
+  for (const Vector6d& v : ideal_) {
+    lin = std::max(lin, v.head<3>().norm());
+    ang = std::max(ang, v.tail<3>().norm());
+  }
+  const int off = lin >= 1e-3 || ang == 0 ? 0 : 3;
+  const int max_lag = std::min<int>(static_cast<int>(std::lround(0.2 / dt)), static_cast<int>(n) / 2);
+  double best = std::numeric_limits<double>::infinity();
+  int best_lag = 0;
+  for (int lag = 0; lag <= max_lag; ++lag) {
+    double cost = 0;
+    for (std::size_t k = static_cast<std::size_t>(lag) + 1; k < n; ++k) {
+      const Eigen::Vector3d v_sp = (transfer_[k] - transfer_[k - 1]).segment<3>(off);
+      const Eigen::Vector3d v_id = (ideal_[k - lag] - ideal_[k - lag - 1]).segment<3>(off);
+      cost += (v_sp - v_id).squaredNorm();
+    }
+    cost /= static_cast<double>(n - lag - 1);
+    if (cost < best) {
+      best = cost;
+      best_lag = lag;
+    }
+  }
+  return 1e3 * best_lag * dt;
+}
+
+nlohmann::ordered_json SessionSummary::Summary() const {
+  nlohmann::ordered_json j;
+  j["leader_ticks"] = leader_ticks_;
+  j["follower_ticks"] = follower_ticks_;
+  j["leader_overruns"] = end_.leader_overruns;
+  j["follower_overruns"] = end_.follower_overruns;
+  j["leader_period_jitter_us_p99"] = end_.leader_period_jitter_us_p99;
+  j["follower_period_jitter_us_p99"] = end_.follower_period_jitter_us_p99;
+  j["max_force_n"] = max_force_n_;
+  j["max_torque_nm"] = max_torque_nm_;
+  j["nonfinite_outputs"] = nonfinite_;
+  j["follower_limit_violations"] = limit_violations_;
+  j["max_follower_speed_mm_s"] = MToMm(max_speed_m_s_);
+  j["max_follower_angular_speed_deg_s"] = RadToDeg(max_angular_speed_rad_s_);
+  j["hand_to_setpoint_delay_ms"] = HandToSetPointDelayMs();
+  j["watchdog_holds"] = end_.watchdog_holds;
+  j["follower_transitions"] = follower_transitions_;
+  j["leader_transitions"] = leader_transitions_;
+  j["complete"] = has_end_;  // false: the log ends without its end record (the run did not finish)
+  j["elapsed_s"] = end_.elapsed_s;
+  j["leader_period_jitter_us_max"] = end_.leader_period_jitter_us_max;
+  j["follower_period_jitter_us_max"] = end_.follower_period_jitter_us_max;
+  j["leader_wake_latency_us_p99"] = end_.leader_wake_latency_us_p99;
+  j["follower_wake_latency_us_p99"] = end_.follower_wake_latency_us_p99;
+  j["leader_overrun_rate"] = end_.leader_loop_ticks ? static_cast<double>(end_.leader_overruns) /
+                                                          static_cast<double>(end_.leader_loop_ticks) : 0.0;
+  j["follower_overrun_rate"] = end_.follower_loop_ticks ? static_cast<double>(end_.follower_overruns) /
+                                                              static_cast<double>(end_.follower_loop_ticks) : 0.0;
+  j["setpoints_accepted"] = end_.setpoints_accepted;
+  j["setpoints_rejected"] = end_.setpoints_rejected;
+  j["setpoints_stopped_at_boundary"] = stopped_at_boundary_;
+  j["setpoints_ik_rejected"] = end_.ik_rejected;
+  j["device_failures"] = end_.device_failures;
+  j["records_dropped"] = end_.leader_records_dropped + end_.follower_records_dropped;
+  j["max_hand_speed_mm_s"] = MToMm(max_hand_speed_m_s_);
+  j["min_follower_limit_margin_si"] = follower_ticks_ ? min_margin_ : 0.0;
+  return j;
+}
+
+std::string SessionSummary::PeriodsCsv() const {
+  std::string out = "loop,period_us,count\n";
+  for (const auto& [us, n] : leader_periods_us_) out += "leader," + std::to_string(us) + "," + std::to_string(n) + "\n";
+  for (const auto& [us, n] : follower_periods_us_) {
+    out += "follower," + std::to_string(us) + "," + std::to_string(n) + "\n";
+  }
+  return out;
+}
+
+}  // namespace robossis::teleop

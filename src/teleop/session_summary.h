@@ -1,0 +1,78 @@
+#pragma once
+// What a teleoperation run did, computed from the flight recorder's records alone (so that replaying a session log
+// reproduces the run's summary exactly): summary.json, leader.csv, follower.csv and the loop-period histograms.
+// Fed one record at a time (the logger thread during a run, the log reader in `robossis replay`); not real-time.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "src/core/pose.h"
+#include "src/core/rt/loop_stats.h"
+#include "src/teleop/flight_recorder.h"
+
+namespace robossis::teleop {
+
+struct SummaryOptions {
+  double leader_rate_hz = 1000;
+  double follower_rate_hz = 10000;
+  double leader_csv_rate_hz = 1000;   // leader.csv rows (decimated from the loop rate)
+  double follower_csv_rate_hz = 200;  // follower.csv rows (>= 100 Hz)
+};
+
+class SessionSummary {
+ public:
+  explicit SessionSummary(const SummaryOptions& options);
+
+  void AddLeader(const LeaderTickRecord& r);
+  void AddFollower(const FollowerTickRecord& r);
+  void SetEnd(const SessionEndRecord& end) { end_ = end; has_end_ = true; }
+
+  // The keys first, then the details.
+  nlohmann::ordered_json Summary() const;
+  const std::string& leader_csv() const { return leader_csv_; }
+  const std::string& follower_csv() const { return follower_csv_; }
+  // loop,period_us,count: the start-to-start intervals of each loop (1 µs bins), from the records.
+  std::string PeriodsCsv() const;
+
+ private:
+  double HandToSetPointDelayMs() const;
+
+  SummaryOptions options_;
+  // Leader.
+  std::uint64_t leader_ticks_ = 0;
+  std::int64_t leader_last_ns_ = -1;
+  std::map<std::int64_t, std::uint64_t> leader_periods_us_;
+  double max_force_n_ = 0;
+  double max_torque_nm_ = 0;
+  std::uint64_t nonfinite_ = 0;
+  std::uint64_t stopped_at_boundary_ = 0;
+  int leader_state_ = -1;
+  nlohmann::ordered_json leader_transitions_ = nlohmann::ordered_json::array();
+  std::vector<double> t_sent_;                     // transfer ticks: for the delay estimate
+  std::vector<Vector6d> ideal_, transfer_;
+  std::string leader_csv_;
+  int leader_decimation_ = 1;
+  double max_hand_speed_m_s_ = 0;
+  // Follower.
+  std::uint64_t follower_ticks_ = 0;
+  double follower_last_s_ = -1;
+  std::map<std::int64_t, std::uint64_t> follower_periods_us_;
+  std::uint64_t limit_violations_ = 0;
+  double min_margin_ = 1e9;
+  std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 10 measured poses (1 ms at 10 kHz)
+  std::size_t window_next_ = 0;
+  double max_speed_m_s_ = 0;
+  double max_angular_speed_rad_s_ = 0;
+  int follower_state_ = -1;
+  nlohmann::ordered_json follower_transitions_ = nlohmann::ordered_json::array();
+  std::string follower_csv_;
+  int follower_decimation_ = 1;
+  SessionEndRecord end_;
+  bool has_end_ = false;
+};
+
+}  // namespace robossis::teleop

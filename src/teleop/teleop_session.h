@@ -1,0 +1,70 @@
+#pragma once
+// A whole teleoperation session on one machine (Fig. 2 in one process): the device back end, the leader unit, the
+// in-process link, the follower unit and its back end, each unit on its own loop; the flight recorder writing the
+// session log; the summary computed from the recorded ticks. `--clock real` runs the loops on threads on
+// wall-clock deadlines; `--clock simulated` steps the same units deterministically on a SimulatedClock, as fast as
+// the machine allows. `robossis teleop` and the demo only call this.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/boundary_atlas.h"
+#include "haptics/haptics_config.h"
+#include "haptics/transfer/transfer_config.h"
+#include "robot/actuation/actuation_config.h"
+#include "robot/rsr_model.h"
+#include "robot/sigma7_model.h"
+#include "robot/sim/sim_config.h"
+#include "src/teleop/follower_config.h"
+#include "src/teleop/leader_config.h"
+
+namespace robossis::teleop {
+
+// Everything a session reads from data/: models and configs (loaded once by the caller).
+struct TeleopSetup {
+  const robot::RsrModel* rsr = nullptr;
+  const robot::Sigma7Model* sigma7 = nullptr;
+  haptics::HapticsConfig haptics;
+  transfer::TransferConfig transfer;
+  actuation::ActuationConfig actuation;
+  FollowerConfig follower;
+  LeaderConfig leader;
+  sim::SimConfig sim;
+  // Loads every config from data_dir/config (throws std::runtime_error naming the file and key).
+  static TeleopSetup Load(const std::filesystem::path& data_dir, const robot::RsrModel& rsr,
+                          const robot::Sigma7Model& sigma7);
+};
+
+struct TeleopRequest {
+  std::string device = "sim";          // haptics::MakeDevice: sim | replay:FILE.csv
+  std::string method = "proxy-safe";   // haptics::KnownMethods()
+  std::string follower = "sim";        // sim (Bullet) | recorder (pulse recorder)
+  double rate_hz = 1000;               // the leader's loop (a multiple of the 1 kHz transfer rate)
+  double duration_s = 10;              // a replay stops earlier: 0.5 s after its end
+  bool real_clock = false;
+  std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the mesh methods' atlas
+};
+
+struct TeleopOutputs {
+  nlohmann::ordered_json summary;
+  std::string leader_csv;
+  std::string follower_csv;
+  std::string periods_csv;
+  std::vector<std::string> warnings;  // real-time setup refused (SCHED_FIFO, mlockall)
+};
+
+std::vector<std::string> KnownFollowers();  // sim, recorder
+
+// Runs a session, writing its log to `log_file`. Throws std::invalid_argument on a bad request (naming the option),
+// std::runtime_error on a failure to write the log.
+TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, const std::filesystem::path& log_file);
+
+// The outputs of the run that wrote `log_file`, recomputed from its records. Throws std::runtime_error naming the
+// file and the problem.
+TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file);
+
+}  // namespace robossis::teleop

@@ -1,0 +1,76 @@
+// `robossis teleop --clock simulated` and `robossis replay` as a user runs them: the files, the summary's keys,
+// the replay reproducing the summary, and a one-line error on bad input.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "src/core/config.h"
+#include "tests/support/robossis_cli.h"
+
+namespace robossis {
+namespace {
+
+using testing::Robossis;
+
+std::filesystem::path Temp(const std::string& name) {
+  const auto p = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(p);
+  return p;
+}
+
+std::size_t Lines(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+TEST(TeleopCliTest, SimulatedSessionWritesItsFilesAndReplayReproducesTheSummary) {
+  const auto out = Temp("robossis_teleop_cli");
+  const std::string hand = (DefaultDataDir() / "teleop" / "fast_hand.csv").string();
+  const auto run = Robossis("teleop --device replay:" + hand + " --method proxy-safe --follower sim --rate-hz 1000 "
+                            "--duration-s 2 --clock simulated --no-plots --json --out " + out.string(), false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto summary = nlohmann::json::parse(run.output);
+  for (const char* key : {"leader_ticks", "follower_ticks", "leader_overruns", "follower_overruns",
+                          "leader_period_jitter_us_p99", "follower_period_jitter_us_p99", "max_force_n",
+                          "max_torque_nm", "nonfinite_outputs", "follower_limit_violations", "max_follower_speed_mm_s",
+                          "max_follower_angular_speed_deg_s", "hand_to_setpoint_delay_ms", "watchdog_holds",
+                          "follower_transitions"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_EQ(summary["leader_ticks"], 2000);
+  EXPECT_EQ(summary["follower_ticks"], 20000);
+  EXPECT_EQ(summary["follower_limit_violations"], 0);
+  EXPECT_LE(summary["hand_to_setpoint_delay_ms"].get<double>(), 50.0);
+  for (const char* f : {"summary.json", "leader.csv", "follower.csv", "loop_periods.csv", "session.rlog"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  }
+  EXPECT_GE(Lines(out / "follower.csv"), 2 * 100 + 1u);  // >= 100 Hz over 2 s, plus the header
+
+  const auto replayed = Temp("robossis_teleop_cli_replay");
+  const auto replay = Robossis("replay " + (out / "session.rlog").string() + " --no-plots --json --out " +
+                               replayed.string(), false);
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  EXPECT_EQ(nlohmann::json::parse(replay.output), summary);
+  std::filesystem::remove_all(out);
+  std::filesystem::remove_all(replayed);
+}
+
+TEST(TeleopCliTest, BadInputIsOneLineNamingTheOption) {
+  const auto out = Temp("robossis_teleop_cli_bad");
+  const auto run = Robossis("teleop --method nope --duration-s 1 --out " + out.string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("robossis: error: --method"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const auto dev = Robossis("teleop --device replay:/nonexistent.csv --duration-s 1 --out " + out.string());
+  EXPECT_EQ(dev.exit_code, 1);
+  EXPECT_NE(dev.output.find("robossis: error:"), std::string::npos) << dev.output;
+}
+
+}  // namespace
+}  // namespace robossis
