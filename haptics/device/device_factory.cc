@@ -5,13 +5,14 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "haptics/device/dhd_device.h"
 #include "haptics/device/simulated_device.h"
 #include "haptics/scenarios/scenario.h"
 #include "src/core/pose.h"
 
 namespace robossis::haptics {
 
-std::vector<std::string> KnownDevices() { return {"sim", "replay:FILE.csv"}; }
+std::vector<std::string> KnownDevices() { return {"sim", "replay:FILE.csv", "dhd[:KEY=VALUE,...]"}; }
 
 namespace {
 
@@ -76,6 +77,7 @@ std::unique_ptr<HapticDevice> MakeDevice(const std::string& spec, const robot::S
     return std::make_unique<SimulatedDevice>(sigma7, haptics.device, haptics.hand, CircleScript(sigma7, options),
                                              limits);
   }
+  if (IsDhdDeviceSpec(spec)) return OpenDhdDevice(spec, limits);
   const std::string replay = "replay:";
   if (spec.rfind(replay, 0) == 0 && spec.size() > replay.size()) {
     return std::make_unique<SimulatedDevice>(sigma7, haptics.device, haptics.hand,

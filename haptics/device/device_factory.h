@@ -7,7 +7,8 @@
 //                     format t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg: the RSR pose the hand commands, frame F),
 //                     presence held until the recording ends, then kEndOfScript
 //
-// The Force Dimension SDK back end registers here as well (`dhd`), where the SDK is installed.
+//   dhd[:KEY=VALUE,...]  a real sigma.7 through the Force Dimension SDK, loaded at run time (haptics/device/dhd_device.h,
+//                     haptics/device/README.md: lib=, drd=, serial=, index=, hold=, window_ms=)
 
 #include <memory>
 #include <string>
@@ -29,7 +30,7 @@ struct DeviceScriptOptions {
   double replay_scale = 1.0;
 };
 
-std::vector<std::string> KnownDevices();  // "sim", "replay:FILE.csv"
+std::vector<std::string> KnownDevices();  // "sim", "replay:FILE.csv", "dhd[:KEY=VALUE,...]"
 
 // Throws std::invalid_argument for an unknown spec (listing the known ones), std::runtime_error for a bad file.
 // `sigma7` must outlive the device.

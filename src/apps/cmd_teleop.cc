@@ -49,9 +49,12 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   CLI::App* cmd = app.add_subcommand(
       "teleop", "Teleoperation on one machine: the haptic device through the walls into the follower, each unit on "
                 "its own loop, every tick in a session log");
-  cmd->add_option("--device", o->device, "sim | replay:FILE.csv (t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg)");
+  cmd->add_option("--device", o->device,
+                  "sim | replay:FILE.csv (t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg) | dhd[:lib=PATH,serial=N,index=N,"
+                  "hold=1,window_ms=MS] (a sigma.7 through the Force Dimension SDK)");
   cmd->add_option("--method", o->method, "Rendering method (render-compare's list; default proxy-safe)");
-  cmd->add_option("--follower", o->follower, "sim (Bullet) | recorder (pulse recorder)");
+  cmd->add_option("--follower", o->follower,
+                  "sim (Bullet) | recorder (pulse recorder) | hal (step/direction drives through LinuxCNC HAL, hal.yaml)");
   cmd->add_option("--rate-hz", o->rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)");
   cmd->add_option("--duration-s", o->duration_s, "Run time (a replay ends 0.5 s after its last sample)");
   cmd->add_option("--clock", o->clock, "real (threads on wall-clock deadlines) | simulated (deterministic, fast)")

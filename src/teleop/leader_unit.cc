@@ -63,7 +63,6 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       model_(model),
       device_(device),
       renderer_(renderer),
-      proxy_(dynamic_cast<const haptics::ProxyRenderer*>(&renderer)),
       link_(link),
       guard_(model, config.guard),
       transfer_(transfer, X_FM_start),
@@ -225,11 +224,11 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   if (transfer_tick) {
     Eigen::Isometry3d X = X_sent_;
     if (started_) {
-      if (proxy_ != nullptr) {
+      if (const Eigen::Isometry3d* proxy = renderer_.constrained_pose(); proxy != nullptr) {
         // The god-object: always on or inside the true boundary (toward it from the last set-point if the
         // rounding of the message would put it a hair outside).
         bool rounded = false;
-        X = FeasibleToward(proxy_->proxy_pose(), rounded);
+        X = FeasibleToward(*proxy, rounded);
         stopped = (X.translation() - X_goal_.translation()).norm() > 1e-9 ||
                   RotationAngleBetween(X.linear(), X_goal_.linear()) > 1e-9;
       } else {

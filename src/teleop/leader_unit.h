@@ -30,7 +30,6 @@
 
 #include "haptics/device/haptic_device.h"
 #include "haptics/rendering/haptic_types.h"
-#include "haptics/rendering/proxy_renderer.h"
 #include "haptics/transfer/motion_transfer.h"
 #include "robot/feasible_motion.h"
 #include "robot/rsr_model.h"
@@ -130,7 +129,6 @@ class LeaderUnit final : public rt::PeriodicTask {
   const robot::RsrModel& model_;
   haptics::HapticDevice& device_;
   haptics::HapticRenderer& renderer_;
-  const haptics::ProxyRenderer* proxy_;  // set if the method keeps a feasible proxy
   LeaderLink& link_;
   robot::FeasibleMotionGuard guard_;
   transfer::MotionTransfer transfer_;

@@ -7,6 +7,7 @@
 #include "haptics/device/device_factory.h"
 #include "haptics/rendering/renderer_factory.h"
 #include "robot/actuation/pulse_recorder_follower.h"
+#include "robot/drivers/hal_follower.h"
 #include "robot/sim/rsr_simulation.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/flight_recorder.h"
@@ -17,7 +18,7 @@
 
 namespace robossis::teleop {
 
-std::vector<std::string> KnownFollowers() { return {"sim", "recorder"}; }
+std::vector<std::string> KnownFollowers() { return {"sim", "recorder", "hal"}; }
 
 TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot::RsrModel& rsr,
                               const robot::Sigma7Model& sigma7) {
@@ -32,6 +33,7 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.leader = LeaderConfig::FromYaml(config / "leader.yaml");
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
+  s.config_dir = config;
   return s;
 }
 
@@ -63,7 +65,7 @@ void CheckRequest(const TeleopRequest& r) {
   }
   const auto followers = KnownFollowers();
   if (std::find(followers.begin(), followers.end(), r.follower) == followers.end()) {
-    throw std::invalid_argument("--follower: unknown follower '" + r.follower + "'; known: sim, recorder");
+    throw std::invalid_argument("--follower: unknown follower '" + r.follower + "'; known: sim, recorder, hal");
   }
   if (!(r.duration_s > 0 && r.duration_s <= 3600)) {
     throw std::invalid_argument("--duration-s: expected 0 < N <= 3600 s");
@@ -96,6 +98,8 @@ TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, 
     options.with_bone = false;
     options.with_traction = false;
     back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+  } else if (request.follower == "hal") {
+    back_end = drivers::MakeHalFollower(rsr, setup.config_dir);
   } else {
     const auto n = static_cast<std::size_t>(std::min(request.duration_s * follower_rate_hz + 1000.0, 4.0e6));
     back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);

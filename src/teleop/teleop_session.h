@@ -34,15 +34,16 @@ struct TeleopSetup {
   FollowerConfig follower;
   LeaderConfig leader;
   sim::SimConfig sim;
+  std::filesystem::path config_dir;  // data_dir/config: back ends with configs of their own (hal.yaml, dhd.yaml)
   // Loads every config from data_dir/config (throws std::runtime_error naming the file and key).
   static TeleopSetup Load(const std::filesystem::path& data_dir, const robot::RsrModel& rsr,
                           const robot::Sigma7Model& sigma7);
 };
 
 struct TeleopRequest {
-  std::string device = "sim";          // haptics::MakeDevice: sim | replay:FILE.csv
+  std::string device = "sim";          // haptics::MakeDevice: sim | replay:FILE.csv | dhd[:...]
   std::string method = "proxy-safe";   // haptics::KnownMethods()
-  std::string follower = "sim";        // sim (Bullet) | recorder (pulse recorder)
+  std::string follower = "sim";        // sim (Bullet) | recorder (pulse recorder) | hal (LinuxCNC HAL drives)
   double rate_hz = 1000;               // the leader's loop (a multiple of the 1 kHz transfer rate)
   double duration_s = 10;              // a replay stops earlier: 0.5 s after its end
   bool real_clock = false;
@@ -57,7 +58,7 @@ struct TeleopOutputs {
   std::vector<std::string> warnings;  // real-time setup refused (SCHED_FIFO, mlockall)
 };
 
-std::vector<std::string> KnownFollowers();  // sim, recorder
+std::vector<std::string> KnownFollowers();  // sim, recorder, hal
 
 // Runs a session, writing its log to `log_file`. Throws std::invalid_argument on a bad request (naming the option),
 // std::runtime_error on a failure to write the log.
