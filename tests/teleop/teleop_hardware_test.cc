@@ -1,0 +1,83 @@
+// The whole runtime on the hardware back ends, as `robossis teleop --device dhd --follower hal` runs it: the Force
+// Dimension SDK back end against the fake SDK (tests/haptics/fake_dhd), the leader and follower units on real-time
+// loops, and the LinuxCNC HAL follower driving a software stepgen in a halrun session the test starts and stops.
+
+#include <dlfcn.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "src/core/config.h"
+#include "src/teleop/teleop_session.h"
+#include "tests/drivers/hal_session.h"
+#include "tests/haptics/fake_dhd/fake_dhd_control.h"
+#include "tests/teleop/teleop_fixture.h"
+
+namespace robossis::teleop {
+namespace {
+
+using robossis::testing::HalSession;
+
+// The fake SDK's test controls, from the same library instance the back end opens.
+class FakeSdkControls {
+ public:
+  FakeSdkControls() : handle_(dlopen(FAKE_DHD_LIBRARY, RTLD_NOW | RTLD_LOCAL)) {
+    if (handle_ == nullptr) throw std::runtime_error(std::string("cannot open the fake SDK: ") + dlerror());
+  }
+  ~FakeSdkControls() { dlclose(handle_); }
+  template <typename Fn>
+  Fn Get(const char* name) const {
+    Fn fn = reinterpret_cast<Fn>(dlsym(handle_, name));
+    if (fn == nullptr) throw std::runtime_error(std::string("the fake SDK has no ") + name);
+    return fn;
+  }
+
+ private:
+  void* handle_;
+};
+
+TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
+  HalSession hal(DefaultDataDir() / "hal" / "robossis-stepgen.hal");
+  FakeSdkControls sdk;
+  sdk.Get<void (*)()>("fake_dhd_reset")();
+  sdk.Get<void (*)(double)>("fake_dhd_set_tick")(1e-3);  // the leader's 1 kHz tick
+  sdk.Get<void (*)(unsigned)>("fake_dhd_set_buttons")(1u);  // the operator holds the presence button
+  FakeDhdState start{};
+  sdk.Get<void (*)(FakeDhdState*)>("fake_dhd_get_state")(&start);
+  // The hand moves the handle 5 mm along the device's x and holds it there.
+  sdk.Get<void (*)(double, double, double)>("fake_dhd_set_hand_target")(start.p[0] + 0.005, start.p[1], start.p[2]);
+
+  TeleopRequest request;
+  request.device = std::string("dhd:lib=") + FAKE_DHD_LIBRARY;
+  request.follower = "hal";
+  request.method = "proxy-safe";
+  request.real_clock = true;
+  request.duration_s = 4;
+  const TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), testing::Rsr(), testing::Sigma7());
+  const std::filesystem::path log = std::filesystem::path(::testing::TempDir()) / "teleop_hardware.rlog";
+  const TeleopOutputs out = RunTeleop(request, setup, log);
+
+  const auto& s = out.summary;
+  EXPECT_GT(s["follower_ticks"].get<double>(), 1000);
+  EXPECT_EQ(s["follower_limit_violations"].get<double>(), 0);
+  EXPECT_EQ(s["nonfinite_outputs"].get<double>(), 0);
+  EXPECT_NE(s["follower_transitions"].dump().find("enabled"), std::string::npos) << s["follower_transitions"].dump();
+
+  // The drives moved, and LinuxCNC's step counts are the commanded joint positions in steps (the eq. 17 count:
+  // position-scale is the actuation config's steps per unit), within one step per motor.
+  double moved_steps = 0;
+  for (int m = 0; m < 6; ++m) {
+    const std::string g = "stepgen." + std::to_string(m) + ".";
+    const double counts = HalSession::GetNumber(g + "counts");
+    const double commanded = HalSession::GetNumber(g + "position-cmd") * HalSession::GetNumber(g + "position-scale");
+    EXPECT_NEAR(counts, commanded, 1.0) << "motor " << m;
+    moved_steps += std::abs(counts);
+  }
+  EXPECT_GT(moved_steps, 100) << "the 5 mm hand motion did not reach the drives";
+}
+
+}  // namespace
+}  // namespace robossis::teleop
