@@ -1,8 +1,10 @@
 // `robossis teleop` (a leader-follower session: device → leader unit → link → follower unit → back end) and
 // `robossis replay` (a session log back into CSV, summary and figures). Parse, call src/teleop, print.
 
+#include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,15 +35,15 @@ void WriteOutputs(const StagedOutputDir& out, const teleop::TeleopOutputs& o, bo
 void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   struct Options {
     std::string device = "sim";
-    std::string method = "proxy-safe";
+    std::string method;  // default: haptics.yaml hardware_default_method
     std::string follower = "sim";
     double rate_hz = 1000;
     double duration_s = 10;
     std::string clock = "simulated";
     std::string out;
     std::string atlas;
-    double max_speed_mm_s = 0;
-    double max_angular_speed_deg_s = 0;
+    std::optional<double> max_speed_mm_s;
+    std::optional<double> max_angular_speed_deg_s;
     bool no_plots = false;
     bool json = false;
   };
@@ -52,7 +54,7 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   cmd->add_option("--device", o->device,
                   "sim | replay:FILE.csv (t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg) | dhd[:lib=PATH,serial=N,index=N,"
                   "hold=1,window_ms=MS] (a sigma.7 through the Force Dimension SDK)");
-  cmd->add_option("--method", o->method, "Rendering method (render-compare's list; default proxy-safe)");
+  cmd->add_option("--method", o->method, "Rendering method (render-compare's list; default: haptics.yaml hardware_default_method)");
   cmd->add_option("--follower", o->follower,
                   "sim (Bullet) | recorder (pulse recorder) | hal (step/direction drives through LinuxCNC HAL, hal.yaml)");
   cmd->add_option("--rate-hz", o->rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)");
@@ -70,27 +72,31 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     teleop::TeleopSetup setup = teleop::TeleopSetup::Load(context.data_dir, rsr, sigma7);
-    if (o->max_speed_mm_s != 0) {
-      if (!(o->max_speed_mm_s > 0)) throw std::invalid_argument("--max-speed-mm-s: expected a positive speed");
-      setup.transfer.caps.max_linear_speed_m_s = MmToM(o->max_speed_mm_s);
-    }
-    if (o->max_angular_speed_deg_s != 0) {
-      if (!(o->max_angular_speed_deg_s > 0)) {
-        throw std::invalid_argument("--max-angular-speed-deg-s: expected a positive speed");
+    if (o->max_speed_mm_s) {
+      if (!(*o->max_speed_mm_s > 0 && std::isfinite(*o->max_speed_mm_s))) {
+        throw std::invalid_argument("--max-speed-mm-s: expected a positive finite speed, got " +
+                                    std::to_string(*o->max_speed_mm_s));
       }
-      setup.transfer.caps.max_angular_speed_rad_s = DegToRad(o->max_angular_speed_deg_s);
+      setup.transfer.caps.max_linear_speed_m_s = MmToM(*o->max_speed_mm_s);
+    }
+    if (o->max_angular_speed_deg_s) {
+      if (!(*o->max_angular_speed_deg_s > 0 && std::isfinite(*o->max_angular_speed_deg_s))) {
+        throw std::invalid_argument("--max-angular-speed-deg-s: expected a positive finite speed, got " +
+                                    std::to_string(*o->max_angular_speed_deg_s));
+      }
+      setup.transfer.caps.max_angular_speed_rad_s = DegToRad(*o->max_angular_speed_deg_s);
     }
     setup.transfer.Validate();
     setup.follower.setpoint.caps = setup.transfer.caps;  // the follower checks the caps the leader applies
     teleop::TeleopRequest request;
     request.device = o->device;
-    request.method = o->method;
+    request.method = o->method.empty() ? setup.haptics.hardware_default_method : o->method;
     request.follower = o->follower;
     request.rate_hz = o->rate_hz;
     request.duration_s = o->duration_s;
     request.real_clock = o->clock == "real";
     StagedOutputDir out(o->out);
-    if (o->method.rfind("mesh", 0) == 0) {
+    if (request.method.rfind("mesh", 0) == 0) {
       request.atlas = std::make_shared<const geometry::BoundaryAtlas>(
           o->atlas.empty() ? geometry::BuildAtlas(rsr, sigma7, geometry::AtlasSpec::Coarse(rsr), out.Path("atlas"))
                            : geometry::BoundaryAtlas::Load(o->atlas));
