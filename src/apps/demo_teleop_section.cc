@@ -55,6 +55,13 @@ void WriteTeleopSection(DemoContext& demo) {
               << "| hand-to-set-point delay (the transfer's filters) | " << num("hand_to_setpoint_delay_ms")
               << " ms |\n"
               << "| watchdog holds | " << s["watchdog_holds"] << " |\n\n";
+  demo.report << "Follower state transitions:";
+  for (const auto& t : s["follower_transitions"]) {
+    demo.report << " " << FormatFixed(t["t_s"].get<double>(), 3) << " s " << t["from"].get<std::string>() << " → "
+                << t["to"].get<std::string>() << " (" << t["reason"].get<std::string>() << ");";
+  }
+  demo.report << " set-points accepted / rejected by the follower: " << s["setpoints_accepted"] << " / "
+              << s["setpoints_rejected"] << ".\n\n";
   for (const std::string& w : o.warnings) demo.report << "Warning: " << w << "\n\n";
   demo.Figure("teleop_session.py", {"--dir", demo.out.Path("teleop").string()}, "teleop/teleop.png",
               "Hand vs follower, the wrench on the hand, the follower's tightest joint-limit margin, the loop periods");

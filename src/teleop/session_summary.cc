@@ -37,7 +37,7 @@ SessionSummary::SessionSummary(const SummaryOptions& options) : options_(options
   leader_decimation_ = std::max(1, static_cast<int>(std::lround(options.leader_rate_hz / options.leader_csv_rate_hz)));
   follower_decimation_ =
       std::max(1, static_cast<int>(std::lround(options.follower_rate_hz / options.follower_csv_rate_hz)));
-  window_.resize(10);
+  window_.resize(100);
   leader_csv_ =
       "t_s,hand_x_mm,hand_y_mm,hand_z_mm,hand_roll_deg,hand_pitch_deg,hand_yaw_deg,fx_n,fy_n,fz_n,tx_nm,ty_nm,tz_nm,"
       "haptic_status,goal_x_mm,goal_y_mm,goal_z_mm,goal_roll_deg,goal_pitch_deg,goal_yaw_deg,sent_x_mm,sent_y_mm,"
@@ -91,7 +91,9 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   min_margin_ = std::min(min_margin_, r.meas_min_margin);
   if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
   const Eigen::Isometry3d meas = Pose(r.meas_p_FM, r.meas_q_FM);
-  // Speeds over 10 ticks (1 ms at 10 kHz): finite differences of the measured pose.
+  // Speeds over 100 ticks (10 ms at 10 kHz): finite differences of the measured pose. Not shorter: the Bullet
+  // back end measures at its own 1 kHz physics step and catches up in bursts after a late tick, so a 1 ms window
+  // could hold two steps of motion (twice the true speed).
   if (follower_ticks_ >= window_.size()) {
     const auto& [t0, X0] = window_[window_next_];
     const double dt = r.time_s - t0;

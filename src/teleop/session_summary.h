@@ -63,7 +63,7 @@ class SessionSummary {
   std::map<std::int64_t, std::uint64_t> follower_periods_us_;
   std::uint64_t limit_violations_ = 0;
   double min_margin_ = 1e9;
-  std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 10 measured poses (1 ms at 10 kHz)
+  std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 100 measured poses (10 ms at 10 kHz)
   std::size_t window_next_ = 0;
   double max_speed_m_s_ = 0;
   double max_angular_speed_rad_s_ = 0;
