@@ -121,6 +121,10 @@ void FollowerUnit::Tick() noexcept {
   inputs.leader_lost = lost;
   const OperatingState before = machine_.state();
   machine_.Update(inputs, back_end_);
+  // The leader's device failed (stale, NaN, lost): a latched fault here too, so that recovery needs a reset.
+  if (live && (setpoint_flags_ & kSetPointDeviceFault) != 0 && machine_.powered()) {
+    machine_.RaiseFault(FaultReason::kDeviceFailure, back_end_);
+  }
   if (machine_.state() == OperatingState::kDisabled && before != OperatingState::kDisabled &&
       machine_.reason() == FaultReason::kLeaderLost) {
     ++counters_.leader_lost;
