@@ -262,6 +262,17 @@ TEST_F(HostileMotiveTest, NanAndGarbageCellsAreNotOcclusions) {
   }
 }
 
+// --- Singular poses: no NaN/inf with exit 0 -----------------------------------------------------------------------
+
+TEST_F(HostileInputTest, SingularPoseIsAnErrorNotNan) {
+  // Both rings at the origin: every arm has zero length, its direction is undefined.
+  for (const char* cmd : {"robot jacobian", "robot ik"}) {
+    const CommandRun run = Robossis(std::string(cmd) + " --pose 0,0,0,0,0,0");
+    ExpectError(run, "not finite at this pose");
+    EXPECT_THAT(run.output, Not(HasSubstr("nan")));
+  }
+}
+
 // --- Version ------------------------------------------------------------------------------------------------------
 
 TEST_F(HostileInputTest, VersionNamesTheGitRevision) {
