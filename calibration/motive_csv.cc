@@ -100,8 +100,15 @@ std::string MotiveLayout::RigidBodyNames() const {
 
 double MotiveRow::Number(int column) const {
   if (column < 0 || column >= static_cast<int>(fields_.size())) return kMissing;
+  if (TrimField(fields_[column]).empty()) return kMissing;  // Motive's occlusion: an empty cell
   double value = 0;
-  return TryParseNumber(fields_[column], &value) ? value : kMissing;
+  if (!TryParseNumber(fields_[column], &value)) {
+    // 'nan', 'abc' or 'inf' is not an occlusion: the file was edited or is not what it claims.
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number) + ", column " +
+                             std::to_string(column + 1) + ": got '" + std::string(fields_[column].substr(0, 40)) +
+                             "'; expected a finite number, or an empty cell for an occlusion");
+  }
+  return value;
 }
 
 bool MotiveRow::Empty(int column) const {
@@ -186,8 +193,11 @@ void MotiveReader::ParseHeader() {
                              ": legacy format 1.1 and older use a different row-typed layout and are not supported; "
                              "re-export the take with CSV format 1.2x");
   }
-  if (version >= 1.26) {
-    // Unknown newer 1.x/2.x versions: the header layout is the same family; read on but the caller may warn.
+  if (version >= 2.0) {
+    // The 1.2x layout is all this reader knows; a 2.x or 9.9 header may mean anything.
+    throw std::runtime_error(where(1) + "'Format Version' is " + header_.format_version +
+                             ": not a Motive CSV format this reader knows; expected 1.2x (1.21 to 1.25, or a newer "
+                             "1.x of the same layout)");
   }
   header_.take_name = meta["take name"];
   auto rate = [&](const std::string& key, double& out) {
@@ -197,9 +207,16 @@ void MotiveReader::ParseHeader() {
   };
   rate("capture frame rate", header_.capture_rate_hz);
   rate("export frame rate", header_.export_rate_hz);
-  if (header_.export_rate_hz <= 0) header_.export_rate_hz = header_.capture_rate_hz;
-  if (!(header_.export_rate_hz > 0)) {
-    throw std::runtime_error(where(1) + "'Export Frame Rate' is missing or not positive; cannot build the time axis");
+  // The export rate builds the time axis: a stated rate must be plausible; only an absent one falls back to the
+  // capture rate (never a stated 0 or -120 replaced silently).
+  constexpr double kMaxRateHz = 100000.0;  // above any optical tracker's frame rate
+  const bool export_stated = meta.count("export frame rate") && !meta["export frame rate"].empty();
+  if (!export_stated) header_.export_rate_hz = header_.capture_rate_hz;
+  if (!(header_.export_rate_hz > 0 && header_.export_rate_hz <= kMaxRateHz)) {
+    const std::string key = export_stated ? "export frame rate" : "capture frame rate";
+    const std::string stated = meta.count(key) && !meta[key].empty() ? "'" + meta[key] + "'" : "missing";
+    throw std::runtime_error(where(1) + "'" + (export_stated ? "Export" : "Capture") + " Frame Rate' is " + stated +
+                             "; expected a rate in (0, 100000] Hz to build the time axis");
   }
   if (meta.count("total exported frames")) {
     double n = 0;
@@ -273,6 +290,19 @@ void MotiveReader::ParseHeader() {
   auto cell = [](const std::vector<std::string_view>& r, std::size_t c) {
     return c < r.size() ? std::string(TrimField(r[c])) : std::string();
   };
+  // The Type row names Motive asset types only; anything else there means the row is missing (the Name row moved
+  // up), which would otherwise read as a take with no rigid bodies.
+  for (std::size_t c = 2; c < ncols; ++c) {
+    const std::string type = Lower(cell(type_row, c));
+    static const char* const kKnownTypes[] = {"rigid body", "rigid body marker", "marker", "bone", "bone marker",
+                                              "skeleton", "force plate", "device", "unlabeled marker"};
+    if (type.empty()) continue;
+    if (std::none_of(std::begin(kKnownTypes), std::end(kKnownTypes), [&](const char* k) { return type == k; })) {
+      throw std::runtime_error(where(row_lines[0]) + "column " + std::to_string(c + 1) + " of the Type row is '" +
+                               cell(type_row, c) + "'; expected a Motive asset type (Rigid Body, Rigid Body Marker, "
+                               "Marker, Bone, ...): is the Type row missing?");
+    }
+  }
   std::map<std::string, int> rb_index, rbm_index, m_index;
   int asset_columns = 0;
   for (std::size_t c = 2; c < ncols; ++c) {
@@ -360,6 +390,7 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
     break;
   }
   row.line_number = line_number_;
+  row.source_name_ = source_name_;
   row.length_scale_ = header_.length_scale_to_m;
   double frame = 0;
   if (!TryParseNumber(row.fields_[0], &frame) || frame != std::floor(frame) || frame < 0 || frame > 9.0e15) {

@@ -83,7 +83,9 @@ class MotiveRow {
  public:
   std::int64_t frame = 0;
   double time_s = 0;  // frame / export rate (the reliable clock)
-  // The cell as SI value (lengths scaled by the header's units, angles untouched), or NaN when empty or absent.
+  // The cell as SI value (lengths scaled by the header's units, angles untouched), or NaN when empty or absent
+  // (an occlusion). Throws std::runtime_error naming the file, line and column for a cell that is neither empty
+  // nor a finite number ('nan', 'abc', 'inf').
   double Number(int column) const;
   double Length(int column) const { return Number(column) * length_scale_; }
   bool Empty(int column) const;
@@ -93,6 +95,7 @@ class MotiveRow {
   friend class MotiveReader;
   std::string line_;
   std::vector<std::string_view> fields_;
+  std::string source_name_;
   double length_scale_ = 1;
 };
 

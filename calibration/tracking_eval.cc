@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -235,6 +236,17 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
   const Pairs pairs = MakePairs(track, reference, clock, excluded, &result.excluded);
   if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after alignment");
   reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
+  if (!(reg.rms_position_m <= options.max_registration_rms_m) ||
+      !(reg.rms_rotation_rad <= options.max_registration_rms_rad)) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "the tracker-to-robot registration leaves an RMS residual of %.3f mm and %.3f deg, expected at most "
+                  "%.3f mm and %.3f deg: the recording does not match the reference as a rigid motion. Check the "
+                  "length units (m or mm), the rotation type, the rigid body and the reference file",
+                  reg.rms_position_m * 1e3, reg.rms_rotation_rad * 57.29577951308232,
+                  options.max_registration_rms_m * 1e3, options.max_registration_rms_rad * 57.29577951308232);
+    throw std::runtime_error(buf);
+  }
 
   result.clock = clock;
   result.registration = reg;

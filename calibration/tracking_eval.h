@@ -35,6 +35,12 @@ struct TrackingEvalOptions {
   HandEyeOptions hand_eye;
   SpeedCorrelationOptions correlation;
   int alternations = 3;  // registration ↔ clock refinement rounds
+  // Plausibility: a registration whose residual exceeds these fails the evaluation, because a rigid transform that
+  // fits this badly means the data is not what it claims (length units off by 1000, another rotation order or
+  // type, another rigid body or reference). Assumption: 2 mm and 5°, four times the worst residual of an optical
+  // tracker on a rigid ring (Motive: ~0.1-0.5 mm); a take in metres labelled millimetres leaves ~4.6 mm.
+  double max_registration_rms_m = 0.002;
+  double max_registration_rms_rad = 0.0872665;
 };
 
 struct ExclusionCounts {

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "src/core/csv.h"
 #include "src/core/files.h"
 #include "src/core/pose.h"
 #include "src/core/parse.h"
@@ -51,6 +52,25 @@ std::string Where(const std::string& source, std::size_t line) {
   return source + " line " + std::to_string(line) + ": ";
 }
 
+// Time stamps are bounded so that a huge stamp or span cannot make an evaluation loop for hours.
+void CheckTime(double t, const PoseTrajectory& so_far, const std::string& source, std::size_t line) {
+  if (!(std::fabs(t) <= kMaxTrajectoryTimeS)) {
+    throw std::runtime_error(Where(source, line) + "time " + std::to_string(t) + " s; expected |t| <= " +
+                             std::to_string(kMaxTrajectoryTimeS) + " s");
+  }
+  if (!so_far.empty() && t - so_far.t_s.front() > kMaxTrajectorySpanS) {
+    throw std::runtime_error(Where(source, line) + "time " + std::to_string(t) + " s is " +
+                             std::to_string(t - so_far.t_s.front()) + " s after the first sample; expected a span of "
+                             "at most " + std::to_string(kMaxTrajectorySpanS) + " s");
+  }
+}
+
+std::string ReadTrajectoryFile(const std::filesystem::path& path) {
+  std::string text = ReadBoundedFile(path, kMaxTrajectoryFileBytes, "trajectory file");
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+  return text;
+}
+
 }  // namespace
 
 void PoseTrajectory::Add(double t, const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation) {
@@ -92,7 +112,13 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
     if (IsCommentOrBlank(line)) return;
     const std::vector<std::string_view> f = Split(line, false);
     if (!have_header) {
-      for (std::size_t i = 0; i < f.size(); ++i) col[std::string(f[i])] = static_cast<int>(i);
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const auto [it, inserted] = col.emplace(std::string(f[i]), static_cast<int>(i));
+        if (!inserted) {
+          throw std::runtime_error(Where(source_name, number) + "column name '" + it->first + "' appears twice (columns " +
+                                   std::to_string(it->second + 1) + " and " + std::to_string(i + 1) + ")");
+        }
+      }
       ncols = f.size();
       auto find = [&](std::initializer_list<const char*> names) {
         for (const char* n : names) {
@@ -135,9 +161,9 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
       have_header = true;
       return;
     }
-    if (f.size() < ncols) {
-      throw std::runtime_error(Where(source_name, number) + "expected " + std::to_string(ncols) + " cells, got " +
-                               std::to_string(f.size()) + " (truncated?)");
+    if (f.size() != ncols) {
+      throw std::runtime_error(Where(source_name, number) + "expected exactly " + std::to_string(ncols) +
+                               " cells, one per header column, got " + std::to_string(f.size()));
     }
     auto num = [&](int c) {
       double v = 0;
@@ -154,6 +180,7 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
       return v;
     };
     const double t = num(t_col);
+    CheckTime(t, out, source_name, number);
     if (!out.empty() && !(t > out.t_s.back())) {
       throw std::runtime_error(Where(source_name, number) + "time " + std::to_string(t) +
                                " s does not increase (previous " + std::to_string(out.t_s.back()) + " s)");
@@ -178,7 +205,7 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
 }
 
 PoseTrajectory ReadTrajectoryCsv(const std::filesystem::path& path) {
-  return ParseTrajectoryCsv(ReadTextFile(path), path.string());
+  return ParseTrajectoryCsv(ReadTrajectoryFile(path), path.string());
 }
 
 std::string FormatTrajectoryCsv(const PoseTrajectory& trajectory) {
@@ -198,6 +225,12 @@ PoseTrajectory ParseTum(const std::string& text, const std::string& source_name)
   PoseTrajectory out;
   ForEachLine(text, [&](std::string_view line, std::size_t number) {
     if (IsCommentOrBlank(line)) return;
+    if (line.find(',') != std::string_view::npos) {
+      // A headerless comma-separated file is not TUM: its column order (which quaternion convention?) is unknown.
+      throw std::runtime_error(Where(source_name, number) +
+                               "commas in a TUM line; TUM is space-separated 'timestamp tx ty tz qx qy qz qw', and a "
+                               "CSV needs a header row naming its columns (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
+    }
     const std::vector<std::string_view> f = Split(line, true);
     if (f.size() != 8) {
       throw std::runtime_error(Where(source_name, number) + "expected 8 values 'timestamp tx ty tz qx qy qz qw', got " +
@@ -210,8 +243,10 @@ PoseTrajectory ParseTum(const std::string& text, const std::string& source_name)
                                  std::string(f[k].substr(0, 30)) + "'; expected a number");
       }
     }
+    CheckTime(v[0], out, source_name, number);
     if (!out.empty() && !(v[0] > out.t_s.back())) {
-      throw std::runtime_error(Where(source_name, number) + "timestamp does not increase");
+      throw std::runtime_error(Where(source_name, number) + "timestamp " + std::string(f[0].substr(0, 30)) +
+                               " does not increase (previous " + std::to_string(out.t_s.back()) + " s)");
     }
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     if (!(q.norm() > 0.5 && q.norm() < 1.5)) {
@@ -223,7 +258,7 @@ PoseTrajectory ParseTum(const std::string& text, const std::string& source_name)
   return out;
 }
 
-PoseTrajectory ReadTum(const std::filesystem::path& path) { return ParseTum(ReadTextFile(path), path.string()); }
+PoseTrajectory ReadTum(const std::filesystem::path& path) { return ParseTum(ReadTrajectoryFile(path), path.string()); }
 
 std::string FormatTum(const PoseTrajectory& trajectory) {
   std::string out = "# timestamp tx ty tz qx qy qz qw (s, m; TUM RGB-D format)\n";
@@ -239,7 +274,7 @@ std::string FormatTum(const PoseTrajectory& trajectory) {
 }
 
 PoseTrajectory ReadReferenceTrajectory(const std::filesystem::path& path) {
-  const std::string text = ReadTextFile(path);
+  const std::string text = ReadTrajectoryFile(path);
   bool csv = false;
   bool decided = false;
   ForEachLine(text, [&](std::string_view line, std::size_t) {

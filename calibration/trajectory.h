@@ -1,6 +1,7 @@
 #pragma once
 // Timed pose sequences (commanded, simulated or tracked), their file formats, and interpolation between samples.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -31,14 +32,23 @@ bool InterpolatePose(const PoseTrajectory& trajectory, double t, Eigen::Vector3d
 //   time:        t_s | time_s | timestamp_s
 //   position:    x_m,y_m,z_m | x_mm,y_mm,z_mm
 //   orientation: qw,qx,qy,qz | roll_rad,pitch_rad,yaw_rad | roll_deg,pitch_deg,yaw_deg (R = Rz(yaw)Ry(pitch)Rx(roll))
-// Other columns are ignored. Throws std::runtime_error naming the file, line and field.
+// Other columns are ignored; a column name twice, or a row with more or fewer cells than the header, is an error.
+// A UTF-8 byte-order mark is skipped. Throws std::runtime_error naming the file, line and field.
+// Bounds, checked before any work: files up to kMaxTrajectoryFileBytes; time stamps within ±kMaxTrajectoryTimeS (Unix
+// epoch seconds fit, as TUM datasets use them) and spanning at most kMaxTrajectorySpanS.
+inline constexpr std::uintmax_t kMaxTrajectoryFileBytes = 256u << 20;
+inline constexpr double kMaxTrajectoryTimeS = 1e10;
+inline constexpr double kMaxTrajectorySpanS = 1e6;  // ~11.6 days: longer than any recorded session
+
 PoseTrajectory ReadTrajectoryCsv(const std::filesystem::path& path);
 PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& source_name);
 
 // Writes the project's CSV: t_s,x_m,y_m,z_m,qw,qx,qy,qz (full precision).
 std::string FormatTrajectoryCsv(const PoseTrajectory& trajectory);
 
-// TUM RGB-D trajectory format: "timestamp tx ty tz qx qy qz qw" (s, m), '#' comments, spaces or commas.
+// TUM RGB-D trajectory format: "timestamp tx ty tz qx qy qz qw" (s, m), '#' comments, separated by spaces. A comma
+// is an error: a headerless comma-separated file has no stated column order (qw first or last?), so it is refused
+// rather than guessed.
 PoseTrajectory ReadTum(const std::filesystem::path& path);
 PoseTrajectory ParseTum(const std::string& text, const std::string& source_name);
 std::string FormatTum(const PoseTrajectory& trajectory);

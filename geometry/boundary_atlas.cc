@@ -17,10 +17,10 @@ namespace robossis::geometry {
 namespace {
 
 constexpr const char* kFormat = "robossis-boundary-atlas";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: standard FNV-1a offset basis, geometry fingerprint
 
 std::uint64_t Fnv1a64(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = 14695981039346656037ull;  // the FNV-1a 64-bit offset basis
   for (const char c : bytes) {
     h ^= static_cast<unsigned char>(c);
     h *= 1099511628211ull;
@@ -76,6 +76,62 @@ void ValidateGrid(const std::array<GridAxis, 3>& g, const std::string& name) {
 }
 
 }  // namespace
+
+std::string Fnv1a64Hex(const std::string& bytes) { return Hex(Fnv1a64(bytes)); }
+
+std::string GeometryFingerprint(const robot::RsrModel& rsr, const robot::Sigma7Model& hc) {
+  std::string text;
+  char buf[40];
+  auto add = [&](double v) {
+    std::snprintf(buf, sizeof buf, "%.17g,", v);
+    text += buf;
+  };
+  const robot::RsrGeometry& g = rsr.geometry();
+  for (int i = 0; i < robot::kNumArms; ++i) {
+    add(g.arm_angles_rad[i]);
+    for (int k = 0; k < 3; ++k) add(g.p_FA[i][k]), add(g.p_MB[i][k]);
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) add(g.X_FM_home.matrix()(r, c));
+  }
+  add(g.limits.stroke_min_m), add(g.limits.stroke_max_m), add(g.limits.spherical_cone_max_rad),
+      add(g.limits.rotary_max_rad);
+  const robot::Sigma7Geometry& h = hc.geometry();
+  for (double v : {h.a_m, h.b_m, h.r_m, h.c_m, h.f_m, h.s_m, h.tilt_rad, h.theta1_min_rad, h.theta1_max_rad,
+                   h.theta3_min_rad, h.theta3_max_rad, h.max_force_n, h.max_torque_nm}) {
+    add(v);
+  }
+  for (double v : h.chain_angles_rad) add(v);
+  for (int k = 0; k < 3; ++k) add(h.wrist_half_range_rad[k]);
+  return Hex(Fnv1a64(text));
+}
+
+void BoundaryAtlas::RequireBuiltFor(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
+                                    const std::string& where) const {
+  const std::string expected = GeometryFingerprint(rsr, hc);
+  if (fingerprint_ != expected) {
+    throw std::runtime_error(where + ": the atlas was built for another robot geometry or other limits (fingerprint " +
+                             fingerprint_ + ", this configuration's " + expected +
+                             "); rebuild it with `robossis workspace atlas` under this --data-dir");
+  }
+}
+
+namespace {
+bool Covers(const std::array<GridAxis, 3>& g, const Eigen::Vector3d& x) {
+  for (int k = 0; k < 3; ++k) {
+    const double half = 0.5 * g[k].step;  // a one-node axis keeps the step it was declared with
+    if (!(x[k] >= g[k].min - half && x[k] <= g[k].max() + half)) return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool BoundaryAtlas::CoversOrientation(const Eigen::Vector3d& rpy_rad) const noexcept {
+  return Covers(spec_.orientation_grid, rpy_rad);
+}
+bool BoundaryAtlas::CoversPosition(const Eigen::Vector3d& p_FM_m) const noexcept {
+  return Covers(spec_.position_grid, p_FM_m);
+}
 
 int GridAxis::Nearest(double x) const noexcept {
   if (count <= 1 || !(step > 0) || !std::isfinite(x)) return 0;
@@ -173,6 +229,8 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
   manifest["position_grid"] = GridJson(spec.position_grid, kMToMm);
   manifest["dexterous_resolution_mm"] = spec.dexterous_resolution_m * kMToMm;
   manifest["rotational_resolution_deg"] = spec.rotational_resolution_rad * kRadToDeg;
+  const std::string fingerprint = GeometryFingerprint(rsr, hc);
+  manifest["geometry_fingerprint"] = fingerprint;
   const int total = NodeCount(spec.orientation_grid) + NodeCount(spec.position_grid);
   int done = 0;
   std::vector<AtlasSlice> slices[2];
@@ -227,6 +285,7 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
   manifest["rotational_slices"] = entries[1];
   out.Write("manifest.json", manifest.dump(1) + "\n");
   BoundaryAtlas atlas(spec, std::move(slices[0]), std::move(slices[1]));
+  atlas.set_fingerprint(fingerprint);
   out.Commit();
   return atlas;
 }
@@ -241,7 +300,8 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
   try {
     const nlohmann::json m = nlohmann::json::parse(ReadTextFile(manifest_file));
     if (m.at("format").get<std::string>() != kFormat || m.at("version").get<int>() != kVersion) {
-      throw std::runtime_error("format/version is not " + std::string(kFormat) + " " + std::to_string(kVersion));
+      throw std::runtime_error("format/version is not " + std::string(kFormat) + " " + std::to_string(kVersion) +
+                               " (an atlas of an older version: rebuild it with `robossis workspace atlas`)");
     }
     AtlasSpec spec;
     spec.orientation_grid = GridFromJson(m.at("orientation_grid"), kRadToDeg, "orientation_grid");
@@ -275,7 +335,9 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
         slices[family].push_back(std::move(a));
       }
     }
-    return BoundaryAtlas(spec, std::move(slices[0]), std::move(slices[1]));
+    BoundaryAtlas atlas(spec, std::move(slices[0]), std::move(slices[1]));
+    atlas.set_fingerprint(m.at("geometry_fingerprint").get<std::string>());
+    return atlas;
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(where + ": malformed manifest (" + e.what() + ")");
   } catch (const std::invalid_argument& e) {

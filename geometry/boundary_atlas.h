@@ -5,8 +5,9 @@
 // saved as a folder, loaded at start-up, and looked up for the current pose by the nearest grid node (O(1)).
 //
 // Folder layout (documented in geometry/README.md):
-//   DIR/manifest.json              format, units, grids, resolutions, and per slice: node, file, bytes, FNV-1a hash,
-//                                  volume, triangles; written LAST
+//   DIR/manifest.json              format, units, grids, resolutions, the fingerprint of the robot and device
+//                                  geometry and limits it was built for, and per slice: node, file, bytes, FNV-1a
+//                                  (64-bit, standard offset basis) hash, volume, triangles; written LAST
 //   DIR/dexterous/d_I_J_K.ply      binary PLY, millimetres (position of P in F)
 //   DIR/rotational/r_I_J_K.ply     binary PLY, degrees (roll, pitch, yaw)
 // An atlas is built in a staging folder and moved into place whole (StagedOutputDir); Load() checks every file's
@@ -66,6 +67,17 @@ class BoundaryAtlas {
   // Loads DIR (see the layout above). Throws std::runtime_error naming the file and the problem.
   static BoundaryAtlas Load(const std::filesystem::path& dir);
 
+  // Throws std::runtime_error naming `where` unless the atlas was built for exactly this geometry and these limits
+  // (an atlas of another robot, or of other limits, answers with the wrong boundary).
+  void RequireBuiltFor(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const std::string& where) const;
+  const std::string& fingerprint() const { return fingerprint_; }
+  void set_fingerprint(std::string fingerprint) { fingerprint_ = std::move(fingerprint); }
+
+  // Whether the nearest grid node is within half a grid step of rpy / p_FM on every axis: beyond that the pose is
+  // off the grid and the nearest node's slice is not an answer for it.
+  bool CoversOrientation(const Eigen::Vector3d& rpy_rad) const noexcept;
+  bool CoversPosition(const Eigen::Vector3d& p_FM_m) const noexcept;
+
   const AtlasSpec& spec() const { return spec_; }
   const std::vector<AtlasSlice>& dexterous() const { return dexterous_; }
   const std::vector<AtlasSlice>& rotational() const { return rotational_; }
@@ -82,9 +94,16 @@ class BoundaryAtlas {
 
  private:
   AtlasSpec spec_;
+  std::string fingerprint_;
   std::vector<AtlasSlice> dexterous_, rotational_;
   std::vector<int> dexterous_index_, rotational_index_;  // grid node -> slice index or -1
 };
+
+// FNV-1a 64-bit hash (offset basis 14695981039346656037, prime 1099511628211) as 16 hex digits.
+std::string Fnv1a64Hex(const std::string& bytes);
+
+// A hash of every number of the RSR and sigma.7 geometry and limits an atlas depends on.
+std::string GeometryFingerprint(const robot::RsrModel& rsr, const robot::Sigma7Model& hc);
 
 // Progress of a long build: done of total slices.
 using AtlasProgress = std::function<void(int done, int total)>;
@@ -97,6 +116,7 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
 struct LiveSlice;  // live_boundary.h
 
 // Both queries of one RSR pose against the atlas (and, through LivePoseQuery, the live slices).
+// The slice pointers borrow from the BoundaryAtlas / LiveBoundary that was queried: valid only while it lives.
 struct PoseBoundaryResult {
   // Position of P in F against the dexterous slice of the nearest orientation node: metres, frame F.
   SignedDistanceResult translation;

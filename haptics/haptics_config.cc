@@ -32,14 +32,14 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   const ConfigNode cloud = root.Child("point_cloud");
   c.cloud.translation_radius_m = MmToM(cloud.PositiveNumber("translation_radius_mm"));
   c.cloud.rotation_radius_rad = DegToRad(cloud.PositiveNumber("rotation_radius_deg"));
-  c.cloud.translation_points = static_cast<int>(cloud.NumberInRange("translation_points", 2, 100000));
-  c.cloud.rotation_points = static_cast<int>(cloud.NumberInRange("rotation_points", 2, 100000));
+  c.cloud.translation_points = cloud.IntegerInRange("translation_points", 2, 100000);
+  c.cloud.rotation_points = cloud.IntegerInRange("rotation_points", 2, 100000);
   c.cloud.moving_average_window =
-      static_cast<int>(cloud.NumberInRange("moving_average_window", 1, WeightedMovingAverage::kMaxWindow));
+      cloud.IntegerInRange("moving_average_window", 1, WeightedMovingAverage::kMaxWindow);
   c.cloud.decouple_soft_torque_wall = cloud.Bool("decouple_soft_torque_wall");
   const ConfigNode proxy = root.Child("proxy");
-  c.proxy.bisection_steps = static_cast<int>(proxy.NumberInRange("bisection_steps", 1, 60));
-  c.proxy.max_slides = static_cast<int>(proxy.NumberInRange("max_slides", 1, 10));
+  c.proxy.bisection_steps = proxy.IntegerInRange("bisection_steps", 1, 60);
+  c.proxy.max_slides = proxy.IntegerInRange("max_slides", 1, 10);
   const ConfigNode pc = root.Child("passivity");
   c.passivity.max_damping_ns_per_m = pc.PositiveNumber("max_damping_ns_per_m");
   c.passivity.max_damping_nms_per_rad = pc.PositiveNumber("max_damping_nms_per_rad");
@@ -76,6 +76,7 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": hardware_default_method: expected a rendering method name, got '" +
                              c.hardware_default_method + "'");
   }
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;
 }
 

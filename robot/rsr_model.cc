@@ -74,6 +74,7 @@ RsrModel RsrModel::FromYaml(const std::filesystem::path& file) {
   }
   g.limits.spherical_cone_max_rad = DegToRad(lim.NumberInRange("spherical_cone_max_deg", 1e-6, 89.999));
   g.limits.rotary_max_rad = DegToRad(lim.NumberInRange("rotary_max_deg", 1e-6, 89.999));
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     return RsrModel(g);
   } catch (const std::invalid_argument& e) {

@@ -63,6 +63,7 @@ Sigma7Model Sigma7Model::FromYaml(const std::filesystem::path& file) {
                                                  DegToRad(wrist.NumberInRange("yaw_range_deg", 1e-6, 360)));
   g.max_force_n = device.PositiveNumber("max_force_n");
   g.max_torque_nm = device.PositiveNumber("max_torque_nm");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     return Sigma7Model(g);
   } catch (const std::invalid_argument& e) {

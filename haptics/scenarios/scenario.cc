@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 
 #include "robot/rsr_kinematics.h"
+#include "src/core/csv.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
 
@@ -220,51 +219,23 @@ Scenario MakeScenario(const std::string& name, const robot::RsrModel& model, con
 }
 
 Scenario LoadTrajectoryCsv(const std::filesystem::path& file, const HandParams& hand) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the trajectory file");
-  const std::string expected = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg";
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(file.string() + ": empty file; expected header " + expected);
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line != expected) {
-    throw std::runtime_error(file.string() + " line 1: header is '" + line + "'; expected '" + expected + "'");
-  }
+  CsvSpec spec;
+  spec.columns = {"t_s", "x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"};
+  spec.what = "trajectory CSV";
+  spec.time_column = "t_s";
+  spec.min_time = 0.0;
+  spec.max_time = kMaxTrajectoryTimeS;
+  spec.min_rows = 2;
+  spec.max_rows = kMaxTrajectoryRows;
+  const NumericCsv csv = ReadNumericCsv(file, spec);
   auto times = std::make_shared<std::vector<double>>();
   auto poses = std::make_shared<std::vector<Vector6d>>();
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::stringstream row(line);
-    std::string cell;
-    double values[7];
-    int column = 0;
-    while (std::getline(row, cell, ',')) {
-      if (column >= 7) break;
-      char* end = nullptr;
-      values[column] = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(values[column])) {
-        throw std::runtime_error(file.string() + " line " + std::to_string(line_number) + ": column " +
-                                 std::to_string(column + 1) + " is '" + cell + "'; expected a finite number");
-      }
-      ++column;
-    }
-    if (column != 7 || std::getline(row, cell, ',')) {
-      throw std::runtime_error(file.string() + " line " + std::to_string(line_number) +
-                               ": expected 7 comma-separated numbers");
-    }
-    if (!times->empty() && !(values[0] > times->back())) {
-      throw std::runtime_error(file.string() + " line " + std::to_string(line_number) +
-                               ": t_s must increase strictly (got " + cell + " after " +
-                               std::to_string(times->back()) + ")");
-    }
-    times->push_back(values[0]);
+  for (const CsvRow& row : csv.rows) {
+    times->push_back(row.values[0]);
     Vector6d pose;
-    pose << values[1], values[2], values[3], values[4], values[5], values[6];
+    pose << row.values[1], row.values[2], row.values[3], row.values[4], row.values[5], row.values[6];
     poses->push_back(pose);
   }
-  if (times->size() < 2) throw std::runtime_error(file.string() + ": needs at least 2 samples");
   Scenario s;
   s.name = file.filename().string();
   Episode e;

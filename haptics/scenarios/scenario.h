@@ -53,6 +53,11 @@ std::vector<std::string> KnownScenarios();  // push-edges, explore, strike
 // line and the column).
 Scenario MakeScenario(const std::string& name, const robot::RsrModel& model, const HandParams& hand,
                       double strike_stiffness_n_per_m, bool fast);
+// A trajectory CSV: header t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg, t_s strictly increasing in
+// [0, kMaxTrajectoryTimeS], at least 2 and at most kMaxTrajectoryRows rows (read by the strict src/core/csv.h reader).
+// The bounds keep a replay to minutes of simulation, checked before it starts.
+inline constexpr double kMaxTrajectoryTimeS = 600.0;
+inline constexpr std::size_t kMaxTrajectoryRows = 1'000'000;
 Scenario LoadTrajectoryCsv(const std::filesystem::path& file, const HandParams& hand);
 
 // Distance from X_reference along `axis` (translation, m) or about it (world-frame rotation, rad) to the first

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
+#include "src/core/csv.h"
 #include "src/core/units.h"
 
 namespace robossis::transfer {
@@ -22,36 +21,6 @@ HcSample HcRecord::ToSample() const {
 }
 
 namespace {
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) {
-    const auto b = cell.find_first_not_of(" \t\r");
-    const auto e = cell.find_last_not_of(" \t\r");
-    cells.push_back(b == std::string::npos ? std::string() : cell.substr(b, e - b + 1));
-  }
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
-double ParseCell(const std::string& text, const std::string& where, const std::string& column) {
-  double value = 0;
-  std::size_t used = 0;
-  bool ok = !text.empty();
-  if (ok) {
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      ok = false;
-    }
-  }
-  if (!ok || used != text.size() || !std::isfinite(value)) {
-    throw std::runtime_error(where + ": '" + column + "' is '" + text + "'; expected a finite number");
-  }
-  return value;
-}
 
 // Minimum-jerk blend from 0 to 1 over [t0, t0 + T].
 double MinJerk(double t, double t0, double T) {
@@ -167,58 +136,48 @@ HcTrajectory MakeScenario(const std::string& name) {
 }
 
 HcTrajectory ReadHcCsv(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the HC trajectory file");
   const std::string name = file.filename().string();
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(name + ": empty file; expected a header line");
-  const std::vector<std::string> header = SplitCsv(line);
-  std::map<std::string, std::size_t> column;
-  for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
-  const char* required[] = {"time_s", "x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"};
-  for (const char* key : required) {
-    if (!column.count(key)) {
-      throw std::runtime_error(name + " line 1: missing column '" + key +
-                               "'; expected time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg[,clutch][,arrival_s]");
-    }
-  }
-  const bool has_clutch = column.count("clutch") > 0;
-  const bool has_arrival = column.count("arrival_s") > 0;
+  CsvSpec spec;
+  spec.columns = {"time_s", "x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"};
+  spec.optional_columns = {"clutch", "arrival_s"};
+  spec.any_order = true;
+  spec.what = "HC trajectory CSV";
+  spec.time_column = "time_s";
+  spec.allow_equal_times = true;  // a repeated sample
+  spec.min_time = 0.0;
+  spec.max_time = kMaxHcTimeS;
+  spec.min_rows = 2;
+  spec.max_rows = kMaxHcRows;
+  const NumericCsv csv = ReadNumericCsv(file, spec);
+  const char* pose_columns[] = {"x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"};
+  const int time = csv.Column("time_s"), clutch = csv.Column("clutch"), arrival = csv.Column("arrival_s");
   HcTrajectory t;
   t.name = name;
   t.description = "recorded HC trajectory " + name;
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<std::string> cells = SplitCsv(line);
-    const std::string where = name + " line " + std::to_string(line_number);
-    if (cells.size() < header.size()) {
-      throw std::runtime_error(where + ": " + std::to_string(cells.size()) + " cells; expected " +
-                               std::to_string(header.size()) + " as in the header");
-    }
+  for (const CsvRow& row : csv.rows) {
+    const std::string where = file.string() + " line " + std::to_string(row.line);
     HcRecord r;
-    r.time_s = ParseCell(cells[column["time_s"]], where, "time_s");
-    for (int i = 0; i < 6; ++i) r.pose_mm_deg[i] = ParseCell(cells[column[required[i + 1]]], where, required[i + 1]);
-    r.arrival_s = has_arrival ? ParseCell(cells[column["arrival_s"]], where, "arrival_s") : r.time_s;
-    if (has_clutch) {
-      const double c = ParseCell(cells[column["clutch"]], where, "clutch");
-      if (c != 0 && c != 1) throw std::runtime_error(where + ": 'clutch' is '" + cells[column["clutch"]] +
-                                                     "'; expected 0 or 1");
+    r.time_s = row.values[time];
+    for (int i = 0; i < 6; ++i) r.pose_mm_deg[i] = row.values[csv.Column(pose_columns[i])];
+    r.arrival_s = arrival >= 0 ? row.values[arrival] : r.time_s;
+    if (clutch >= 0) {
+      const double c = row.values[clutch];
+      if (c != 0 && c != 1) {
+        std::ostringstream msg;
+        msg << where << ", column " << clutch + 1 << " (clutch): got '" << c << "'; expected 0 or 1";
+        throw std::runtime_error(msg.str());
+      }
       r.clutch = c == 1;
     }
-    if (!t.records.empty() && r.time_s < t.records.back().time_s) {
+    if (!(r.arrival_s >= r.time_s && r.arrival_s <= r.time_s + kMaxHcArrivalDelayS)) {
       std::ostringstream msg;
-      msg << where << ": 'time_s' " << r.time_s << " is before the previous sample's " << t.records.back().time_s
-          << "; samples must be in time order";
+      msg << where << ", column " << arrival + 1 << " (arrival_s): got '" << r.arrival_s << "'; expected a time in ["
+          << r.time_s << ", " << r.time_s + kMaxHcArrivalDelayS << "] (time_s to " << kMaxHcArrivalDelayS
+          << " s after it: a sample arrives after it is taken)";
       throw std::runtime_error(msg.str());
-    }
-    if (r.arrival_s < r.time_s) {
-      throw std::runtime_error(where + ": 'arrival_s' is before 'time_s'; a sample cannot arrive before it is taken");
     }
     t.records.push_back(r);
   }
-  if (t.records.size() < 2) throw std::runtime_error(name + ": fewer than 2 samples; nothing to transfer");
   // The clean reference (for the delay) is the file in time order; delivery follows arrival order.
   t.clean_records = t.records;
   std::stable_sort(t.records.begin(), t.records.end(),

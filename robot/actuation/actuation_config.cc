@@ -58,6 +58,7 @@ ActuationConfig ActuationConfig::FromYaml(const std::filesystem::path& file) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
   }
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;
 }
 

@@ -114,6 +114,7 @@ SimConfig LoadSimConfig(const std::filesystem::path& file, const std::filesystem
     sum += fr[i];
   }
   if (sum > 1.0 + 1e-12) r.Fail("phase_fractions", "the three fractions must sum to at most 1");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;
 }
 

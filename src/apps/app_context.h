@@ -15,6 +15,7 @@ namespace robossis::apps {
 
 struct AppContext {
   std::filesystem::path data_dir;  // --data-dir, else $ROBOSSIS_DATA_DIR, else the source tree's data/
+  bool force = false;              // --force: --out may replace a non-empty folder that is not an earlier output
 
   std::filesystem::path ConfigPath(const std::string& name) const { return data_dir / "config" / name; }
   robot::RsrModel LoadRsr() const { return robot::RsrModel::FromYaml(ConfigPath("rsr.yaml")); }
@@ -37,6 +38,10 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context);
 
 // "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI. Throws std::invalid_argument naming the option.
 Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name);
+
+// A numeric option checked before any work: finite and within [lo, hi] (0 is a value like any other, never "not
+// given"). Throws std::invalid_argument "--rate-hz: expected a finite number in [1, 10000] Hz, got inf".
+double OptionInRange(double value, double lo, double hi, const std::string& option_name, const std::string& unit);
 
 // Prints a JSON document (pretty, one trailing newline) to stdout.
 void PrintJson(const nlohmann::ordered_json& document);

@@ -1,4 +1,7 @@
+#include <cmath>
 #include <iostream>
+#include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "src/apps/app_context.h"
@@ -13,5 +16,15 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
 }
 
 void PrintJson(const nlohmann::ordered_json& document) { std::cout << document.dump(2) << "\n"; }
+
+double OptionInRange(double value, double lo, double hi, const std::string& option_name, const std::string& unit) {
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    std::ostringstream os;
+    os << option_name << ": expected a finite number in [" << lo << ", " << hi << "]" << (unit.empty() ? "" : " ")
+       << unit << ", got " << value;
+    throw std::invalid_argument(os.str());
+  }
+  return value;
+}
 
 }  // namespace robossis::apps

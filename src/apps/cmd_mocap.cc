@@ -88,8 +88,15 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
   simulate->add_option("--seed", sim->seed, "Random seed")->capture_default_str();
   simulate->callback([sim] {
     calibration::SyntheticTrackerOptions o;
-    if (!(sim->rate_hz > 0 && sim->rate_hz <= 10000)) throw std::invalid_argument("--rate-hz: expected 0 < rate ≤ 10000");
-    if (sim->gaps < 0) throw std::invalid_argument("--gaps: expected ≥ 0");
+    OptionInRange(sim->rate_hz, 1, 10000, "--rate-hz", "Hz");
+    // Bounds, checked before any work (a simulated take is at most kMaxSimulatedFrames rows, ~1 GB).
+    constexpr int kMaxGaps = 10000;
+    constexpr double kMaxSimulatedFrames = 1e7;
+    if (sim->gaps < 0 || sim->gaps > kMaxGaps) {
+      throw std::invalid_argument("--gaps: expected 0 to " + std::to_string(kMaxGaps) + ", got " + std::to_string(sim->gaps));
+    }
+    OptionInRange(sim->offset_s, -1e6, 1e6, "--offset-s", "s");
+    OptionInRange(sim->drift_ppm, -1e5, 1e5, "--drift-ppm", "ppm");
     if (sim->units != "m" && sim->units != "mm") throw std::invalid_argument("--units: expected m or mm, got '" + sim->units + "'");
     o.rate_hz = sim->rate_hz;
     o.clock_offset_s = sim->offset_s;
@@ -112,6 +119,12 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
     o.X_TF = ParsePoseMmDeg(sim->tracker_pose, "--tracker-pose");
     o.X_MB = ParsePoseMmDeg(sim->marker_offset, "--marker-offset");
     const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(sim->reference);
+    if (reference.duration_s() * sim->rate_hz > kMaxSimulatedFrames) {
+      throw std::invalid_argument("--reference: " + sim->reference + " spans " + std::to_string(reference.duration_s()) +
+                                  " s, " + std::to_string(reference.duration_s() * sim->rate_hz) + " frames at --rate-hz; "
+                                  "expected at most " + std::to_string(static_cast<long>(kMaxSimulatedFrames)) + " frames");
+    }
+    RemoveLeftoversOfDeadRuns(sim->out);
     std::ostringstream csv;
     const calibration::SyntheticRecording rec = calibration::WriteSyntheticMotiveCsv(reference, o, csv);
     WriteFileAtomically(sim->out, csv.str());
@@ -120,7 +133,7 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
   });
 }
 
-void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
+void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
   struct Options {
     std::string mocap, rigid_body, reference, out;
     bool json = false, no_drift = false, no_plot = false;
@@ -150,8 +163,12 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
                   "Frames whose orientation error exceeds this are excluded as orientation flips")
       ->capture_default_str();
   cmd->add_flag("--no-plot", o->no_plot, "Skip the Fig. 14 PNG");
-  cmd->callback([o, offset_opt] {
-    if (!(o->flip_threshold_deg > 0)) throw std::invalid_argument("--flip-threshold-deg: expected a positive angle");
+  cmd->callback([&context, o, offset_opt] {
+    OptionInRange(o->flip_threshold_deg, 1e-3, 180, "--flip-threshold-deg", "deg");
+    if (offset_opt->count() > 0) {
+      OptionInRange(o->offset_s, -1e6, 1e6, "--offset-s", "s");
+      OptionInRange(o->offset_window_s, 1e-3, 1e6, "--offset-window-s", "s");
+    }
     // Read and evaluate everything before creating the output folder, so bad input leaves nothing behind.
     const calibration::RigidBodyTrack track = calibration::ReadRigidBodyTrack(o->mocap, o->rigid_body);
     const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(o->reference);
@@ -162,10 +179,9 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& /*context*/) {
       options.offset_given = true;
       options.offset_s = o->offset_s;
       options.offset_window_s = o->offset_window_s;
-      if (!(o->offset_window_s > 0)) throw std::invalid_argument("--offset-window-s: expected a positive duration");
     }
     const calibration::TrackingEvalResult result = calibration::EvaluateTracking(track, reference, options);
-    StagedOutputDir out(o->out);
+    StagedOutputDir out(o->out, context.force);
     const json inputs{{"mocap", o->mocap}, {"rigid_body", o->rigid_body}, {"reference", o->reference}};
     WriteTrackingOutputs(result, inputs, out, "");
     if (!o->no_plot) {

@@ -56,6 +56,7 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
       result.atlas_source = "reused";
     } else if (!request.atlas_dir.empty()) {
       result.atlas = std::make_shared<const geometry::BoundaryAtlas>(geometry::BoundaryAtlas::Load(request.atlas_dir));
+      result.atlas->RequireBuiltFor(rsr, sigma7, "--atlas " + request.atlas_dir);
       result.atlas_source = "loaded from " + request.atlas_dir;
     } else {
       // Without --atlas: the geometry module's default atlas (about 20 s of CPU), the coarse one with --fast.
@@ -147,7 +148,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     request.fast = options->fast;
     request.trace_decimation = options->trace_decimation;
     request.atlas_dir = options->atlas;
-    StagedOutputDir out(options->out);
+    StagedOutputDir out(options->out, context.force);
     auto figure = [&out](const std::string& script, const std::vector<std::string>& args, const std::string& png,
                          const std::string&) {
       std::vector<std::string> full = args;

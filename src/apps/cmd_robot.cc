@@ -71,6 +71,7 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
     const Eigen::Isometry3d X_FM = ik_pose->Parse();
     const robot::RsrModel model = context.LoadRsr();
     const robot::RsrIkResult result = robot::CalcInverseKinematics(model, X_FM);
+    RequireFiniteResult(RsrIkJson(result), "robot ik --pose " + ik_pose->text);
     if (*ik_json) {
       PrintJson(RsrIkJson(result));
     } else {
@@ -124,6 +125,7 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
     const Eigen::Isometry3d X_FM = jac_pose->Parse();
     const Matrix6d J = robot::CalcJacobian(model, X_FM);
     json doc = RsrJacobianJson(J);
+    RequireFiniteResult(doc, "robot jacobian --pose " + jac_pose->text);
     doc["feasible"] = robot::CalcInverseKinematics(model, X_FM).feasible;
     if (*jac_json) {
       PrintJson(doc);

@@ -46,7 +46,7 @@ void RegisterSimCommands(CLI::App& app, const AppContext& context) {
     const robot::RsrModel model = context.LoadRsr();
     const sim::SimConfig config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
     sim::ValidateScenarioParams(params, config);
-    StagedOutputDir out(o->out);
+    StagedOutputDir out(o->out, context.force);
     std::cerr << "[sim] building the femur fragments and the Bullet model" << std::endl;
     const sim::BoneFragments fragments = sim::BuildBoneFragments(config, model);
     const sim::ScenarioResult result = sim::RunScenario(model, config, fragments, params, [](double f) {

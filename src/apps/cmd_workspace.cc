@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "geometry/atlas_error.h"
@@ -27,11 +28,9 @@ Eigen::Vector3d ParseTriple(const std::string& text, const std::string& option, 
   return Eigen::Vector3d(v[0], v[1], v[2]) * to_si;
 }
 
+// Grid spacing of a slice: finer than 0.5 mm or 0.5 deg makes a grid of more than ~1e8 cells (minutes and GBs).
 double PositiveResolution(double value, const std::string& option) {
-  if (!std::isfinite(value) || value <= 0) {
-    throw std::invalid_argument(option + ": expected a positive number, got " + std::to_string(value));
-  }
-  return value;
+  return OptionInRange(value, 0.5, 50.0, option, option.find("deg") != std::string::npos ? "deg" : "mm");
 }
 
 // Writes mesh files and the summary of one slice into the staging folder.
@@ -88,7 +87,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     spec.kind = geometry::SliceKind::kRsrDexterous;
     spec.fixed = ParseTriple(dex->rpy, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG", kDegToRad);
     spec.resolution = MmToM(PositiveResolution(dex->resolution_mm, "--resolution-mm"));
-    StagedOutputDir out(dex->out);
+    StagedOutputDir out(dex->out, context.force);
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
@@ -125,7 +124,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     spec.fixed = rot->position.empty() ? Eigen::Vector3d(rsr.geometry().X_FM_home.translation())
                                        : ParseTriple(rot->position, "--position-mm", "X_MM,Y_MM,Z_MM", kMmToM);
     spec.resolution = DegToRad(PositiveResolution(rot->resolution_deg, "--resolution-deg"));
-    StagedOutputDir out(rot->out);
+    StagedOutputDir out(rot->out, context.force);
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
@@ -158,7 +157,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                           MmToM(PositiveResolution(hc->resolution_mm, "--resolution-mm"))};
     geometry::SliceSpec w{geometry::SliceKind::kHcWrist, Eigen::Vector3d::Zero(),
                           DegToRad(PositiveResolution(hc->resolution_deg, "--resolution-deg"))};
-    StagedOutputDir out(hc->out);
+    StagedOutputDir out(hc->out, context.force);
     const geometry::WorkspaceSlice translation = geometry::GenerateSlice(rsr, sigma7, t);
     const geometry::WorkspaceSlice wrist = geometry::GenerateSlice(rsr, sigma7, w);
     WriteSlice(out, translation, "translation");
@@ -188,7 +187,10 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                 "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip)")
       ->capture_default_str();
   a->callback([&context, at] {
-    if (at->error_samples < 0) throw std::invalid_argument("--error-samples: expected >= 0");
+    if (at->error_samples < 0 || at->error_samples > 100000) {
+      throw std::invalid_argument("--error-samples: expected 0 to 100000 poses per case, got " +
+                                  std::to_string(at->error_samples));
+    }
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     const geometry::AtlasSpec spec = at->coarse ? geometry::AtlasSpec::Coarse(rsr) : geometry::AtlasSpec::Default(rsr);
@@ -240,27 +242,34 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
               "of using the nearest atlas node: accurate to the mesh error, ~0.1 s");
   q->callback([&context, qo] {
     const Eigen::Isometry3d X_FM = ParsePoseMmDeg(qo->pose, "--pose");
-    if (!(qo->radius_mm >= 0) || !(qo->radius_deg >= 0)) {
-      throw std::invalid_argument("--radius-mm/--radius-deg: expected a number >= 0");
-    }
+    OptionInRange(qo->radius_mm, 0, 1000, "--radius-mm", "mm");
+    OptionInRange(qo->radius_deg, 0, 180, "--radius-deg", "deg");
     if (qo->atlas.empty() && !qo->live) throw std::invalid_argument("--atlas: required unless --live is given");
     const geometry::BoundaryAtlas atlas =
         qo->atlas.empty() ? geometry::BoundaryAtlas() : geometry::BoundaryAtlas::Load(qo->atlas);
+    if (!qo->atlas.empty()) atlas.RequireBuiltFor(context.LoadRsr(), context.LoadSigma7(), "--atlas " + qo->atlas);
+    // The result points into the slices that answered (the atlas's or the live boundary's), so both owners live
+    // until the output is written.
+    std::optional<geometry::LiveBoundary> live;
     geometry::PoseBoundaryResult r;
     if (qo->live) {
-      geometry::LiveBoundary live(context.LoadRsr(), context.LoadSigma7(), ConfiguredLiveOptions(context));
-      live.PostPose(X_FM);
-      live.RefreshNow();
+      live.emplace(context.LoadRsr(), context.LoadSigma7(), ConfiguredLiveOptions(context));
+      live->PostPose(X_FM);
+      live->RefreshNow();
       geometry::LivePoseQuery query;
-      query.Query(live, qo->atlas.empty() ? nullptr : &atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg),
+      query.Query(*live, qo->atlas.empty() ? nullptr : &atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg),
                   &r);
     } else {
       geometry::AtlasPoseQuery query;
       query.Query(atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg), &r);
     }
     auto triple = [](const Eigen::Vector3d& v, double s) { return json::array({v.x() * s, v.y() * s, v.z() * s}); };
-    const bool t_ok = r.translation.status == geometry::QueryStatus::kOk;
-    const bool r_ok = r.rotation.status == geometry::QueryStatus::kOk;
+    // A pose beyond half a grid step of the atlas grid is answered by no node: its nearest (clamped) node's slice
+    // belongs to another pose. Reported as "off_grid", never "ok".
+    const bool t_off = r.live_dexterous_slice == nullptr && !atlas.CoversOrientation(RpyFromRotation(X_FM.linear()));
+    const bool r_off = r.live_rotational_slice == nullptr && !atlas.CoversPosition(X_FM.translation());
+    const bool t_ok = !t_off && r.translation.status == geometry::QueryStatus::kOk;
+    const bool r_ok = !r_off && r.rotation.status == geometry::QueryStatus::kOk;
     json doc;
     doc["signed_distance_mm"] = t_ok ? json(r.translation.signed_distance * kMToMm) : json(nullptr);
     doc["signed_angle_deg"] = r_ok ? json(r.rotation.signed_distance * kRadToDeg) : json(nullptr);
@@ -275,12 +284,14 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const Eigen::Vector3d* rotational_at = r.live_rotational_slice ? &r.live_rotational_slice->fixed
                                            : r.rotational_slice    ? &r.rotational_slice->fixed
                                                                    : nullptr;
+    if (t_off) dexterous_at = nullptr;
+    if (r_off) rotational_at = nullptr;
     doc["dexterous_slice_rpy_deg"] = dexterous_at ? triple(*dexterous_at, kRadToDeg) : json(nullptr);
     doc["rotational_slice_position_mm"] = rotational_at ? triple(*rotational_at, kMToMm) : json(nullptr);
     doc["live"] = {{"translation", r.live_dexterous_slice != nullptr},
                    {"rotation", r.live_rotational_slice != nullptr}};
-    doc["status"] = {{"translation", geometry::ToString(r.translation.status)},
-                     {"rotation", geometry::ToString(r.rotation.status)}};
+    doc["status"] = {{"translation", t_off ? "off_grid" : geometry::ToString(r.translation.status)},
+                     {"rotation", r_off ? "off_grid" : geometry::ToString(r.rotation.status)}};
     if (qo->json_out) {
       PrintJson(doc);
     } else {

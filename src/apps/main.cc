@@ -2,11 +2,15 @@
 
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
 #include <iostream>
 
 #include "src/apps/app_context.h"
 #include "src/apps/cmd_teleop.h"
 #include "src/core/config.h"
+#include "robossis_version.h"  // generated: ROBOSSIS_VERSION, ROBOSSIS_GIT_REVISION
 
 int main(int argc, char** argv) {
   using namespace robossis;
@@ -19,6 +23,10 @@ int main(int argc, char** argv) {
   context.data_dir = DefaultDataDir();
   app.add_option("--data-dir", context.data_dir, "Folder with config/ and reference data (default: built-in data/)")
       ->check(CLI::ExistingDirectory);
+  app.add_flag("--force", context.force,
+               "Let --out replace a non-empty folder that is not an earlier robossis output (it is replaced whole)");
+  app.set_version_flag("--version", std::string("robossis ") + ROBOSSIS_VERSION + " (git " + ROBOSSIS_GIT_REVISION + ")");
+  app.fallthrough();  // --data-dir and --force may also follow the subcommand
   apps::RegisterRobotCommands(app, context);
   apps::RegisterHcCommands(app, context);
   apps::RegisterDemoCommand(app, context);
@@ -36,6 +44,13 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const std::filesystem::filesystem_error& e) {
+    // Not the library's raw "filesystem error: ..." text: the path and the reason.
+    std::cerr << "robossis: error: " << e.path1().string() << ": " << e.code().message() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "robossis: error: out of memory (an input larger than this machine can hold?)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "robossis: error: " << e.what() << "\n";
     return 1;

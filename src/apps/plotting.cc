@@ -14,8 +14,13 @@ PlotResult RunPlotScript(const std::string& script, const std::vector<std::strin
   const char* env_python = std::getenv("ROBOSSIS_PYTHON");
   const std::string python = env_python != nullptr && *env_python != '\0' ? env_python : "/usr/bin/python3";
   const char* env_scripts = std::getenv("ROBOSSIS_PLOT_SCRIPTS_DIR");
-  const std::filesystem::path dir = env_scripts != nullptr && *env_scripts != '\0' ? env_scripts
-                                                                                   : ROBOSSIS_PLOT_SCRIPTS_DIR;
+  std::filesystem::path dir = env_scripts != nullptr && *env_scripts != '\0' ? env_scripts : ROBOSSIS_PLOT_SCRIPTS_DIR;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    // An installed program: PREFIX/bin/robossis beside PREFIX/share/robossis/plots.
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) dir = exe.parent_path().parent_path() / "share" / "robossis" / "plots";
+  }
   const std::filesystem::path path = dir / script;
   if (!std::filesystem::exists(path)) return {false, "plot script " + path.string() + " not found"};
   std::vector<std::string> argv_strings = {python, path.string()};

@@ -1,7 +1,9 @@
 #include "src/apps/rsr_json.h"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
 
 #include "src/core/units.h"
 
@@ -108,6 +110,32 @@ json RsrStaticsJson(const robot::RsrStaticsResult& s) {
 
 void PrintKeyValues(const json& document) {
   for (const auto& [key, value] : document.items()) std::cout << key << ": " << value.dump() << "\n";
+}
+
+namespace {
+// The path of the first non-finite number in `node`, or "" if every number is finite.
+std::string FirstNonFinite(const nlohmann::ordered_json& node, const std::string& path) {
+  if (node.is_number_float()) return std::isfinite(node.get<double>()) ? "" : path;
+  if (node.is_object()) {
+    for (const auto& [key, value] : node.items()) {
+      if (std::string p = FirstNonFinite(value, path.empty() ? key : path + "." + key); !p.empty()) return p;
+    }
+  } else if (node.is_array()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      if (std::string p = FirstNonFinite(node[i], path + "[" + std::to_string(i) + "]"); !p.empty()) return p;
+    }
+  }
+  return "";
+}
+}  // namespace
+
+void RequireFiniteResult(const nlohmann::ordered_json& document, const std::string& what) {
+  const std::string bad = FirstNonFinite(document, "");
+  if (!bad.empty()) {
+    throw std::runtime_error(what + ": not finite at this pose ('" + bad +
+                             "' is NaN or infinite): a singular or degenerate pose; expected a pose where the "
+                             "kinematics are defined");
+  }
 }
 
 }  // namespace robossis::apps

@@ -18,6 +18,10 @@ nlohmann::ordered_json RsrStaticsJson(const robot::RsrStaticsResult& statics);
 // "arm 2 stroke = 360.000 mm beyond its limit 354.000 mm by 6.000 mm"
 std::string ViolationText(const robot::RsrLimitCheck& check);
 
+// Throws std::runtime_error "WHAT: not finite at this pose ('KEY' is nan): ..." if any number in `document` is NaN
+// or infinite (a singular pose), so no command prints NaN/inf with exit 0.
+void RequireFiniteResult(const nlohmann::ordered_json& document, const std::string& what);
+
 // Human-readable form of a flat JSON object: one "key: value" line per member.
 void PrintKeyValues(const nlohmann::ordered_json& document);
 

@@ -1,19 +1,82 @@
 #include "src/core/config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 
 namespace robossis {
 
 std::filesystem::path DefaultDataDir() {
   if (const char* env = std::getenv("ROBOSSIS_DATA_DIR"); env != nullptr && *env != '\0') return env;
+  // The build tree's data/ when it exists; else an installed program's PREFIX/share/robossis/data.
+  std::error_code ec;
+  if (std::filesystem::is_directory(ROBOSSIS_DEFAULT_DATA_DIR, ec)) return ROBOSSIS_DEFAULT_DATA_DIR;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "robossis" / "data";
+    if (std::filesystem::is_directory(installed, ec)) return installed;
+  }
   return ROBOSSIS_DEFAULT_DATA_DIR;
 }
 
+namespace {
+
+// Levenshtein distance, for "did you mean" hints on short keys.
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string Joined(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+// Throws on a key that appears twice in one mapping, anywhere in the document (mappings inside lists included).
+void RejectDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& path) {
+  if (node.IsMap()) {
+    std::map<std::string, int> first_line;
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string key = it->first.IsScalar() ? it->first.Scalar() : std::string("?");
+      const int line = it->first.Mark().line + 1;
+      const auto [seen, inserted] = first_line.emplace(key, line);
+      if (!inserted) {
+        throw std::runtime_error(file + ": '" + Joined(path, key) + "': duplicated key (lines " +
+                                 std::to_string(seen->second) + " and " + std::to_string(line) + ")");
+      }
+      RejectDuplicateKeys(it->second, file, Joined(path, key));
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      RejectDuplicateKeys(node[i], file, path + "[" + std::to_string(i) + "]");
+    }
+  }
+}
+
+}  // namespace
+
 ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw std::runtime_error(file.string() + ": config file not found");
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw std::runtime_error(file.string() + ": config file not found");
+  if (!std::filesystem::is_regular_file(status)) {
+    throw std::runtime_error(file.string() + ": expected a regular YAML file (it is a directory or a device)");
+  }
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec || size > kMaxFileBytes) {
+    throw std::runtime_error(file.string() + ": expected a config file of at most " + std::to_string(kMaxFileBytes) +
+                             " bytes, got " + (ec ? std::string("an unreadable size") : std::to_string(size)));
+  }
   YAML::Node root;
   try {
     root = YAML::LoadFile(file.string());
@@ -21,11 +84,41 @@ ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": not valid YAML: " + e.what());
   }
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping at the top level");
+  RejectDuplicateKeys(root, file.string(), "");
   return ConfigNode(root, file.string(), "");
 }
 
 ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string key_path)
-    : node_(std::move(node)), file_(std::move(file)), key_path_(std::move(key_path)) {}
+    : node_(std::move(node)), file_(std::move(file)), key_path_(std::move(key_path)),
+      log_(std::make_shared<ReadLog>()) {}
+
+std::string ConfigNode::PathOf(const std::string& key) const { return Joined(key_path_, key); }
+
+void ConfigNode::Note(const std::string& key) const { log_->asked[key_path_].insert(key); }
+
+void ConfigNode::RejectUnreadKeys() const { RejectUnreadKeysIn(node_, key_path_); }
+
+void ConfigNode::RejectUnreadKeysIn(const YAML::Node& node, const std::string& path) const {
+  const auto asked = log_->asked.find(path);
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string key = it->first.IsScalar() ? it->first.Scalar() : std::string("?");
+    if (asked == log_->asked.end() || asked->second.count(key) == 0) {
+      std::string nearest;
+      std::size_t best = static_cast<std::size_t>(-1);
+      if (asked != log_->asked.end()) {
+        for (const std::string& valid : asked->second) {
+          const std::size_t d = EditDistance(key, valid);
+          if (d < best) best = d, nearest = valid;
+        }
+      }
+      throw std::runtime_error(file_ + ": '" + Joined(path, key) + "' (line " +
+                               std::to_string(it->first.Mark().line + 1) + "): unknown key" +
+                               (nearest.empty() ? std::string(" (this mapping takes no keys)")
+                                                : "; the nearest valid key is '" + nearest + "'"));
+    }
+    if (log_->children.count(Joined(path, key)) != 0) RejectUnreadKeysIn(it->second, Joined(path, key));
+  }
+}
 
 std::string ConfigNode::Where(const std::string& key) const {
   return file_ + ": '" + (key_path_.empty() ? key : key_path_ + "." + key) + "'";
@@ -35,9 +128,13 @@ void ConfigNode::Fail(const std::string& key, const std::string& message) const 
   throw std::runtime_error(Where(key) + ": " + message);
 }
 
-bool ConfigNode::Has(const std::string& key) const { return node_[key].IsDefined() && !node_[key].IsNull(); }
+bool ConfigNode::Has(const std::string& key) const {
+  Note(key);
+  return node_[key].IsDefined() && !node_[key].IsNull();
+}
 
 YAML::Node ConfigNode::Require(const std::string& key) const {
+  Note(key);
   const YAML::Node n = node_[key];
   if (!n.IsDefined() || n.IsNull()) Fail(key, "missing");
   return n;
@@ -46,7 +143,10 @@ YAML::Node ConfigNode::Require(const std::string& key) const {
 ConfigNode ConfigNode::Child(const std::string& key) const {
   const YAML::Node n = Require(key);
   if (!n.IsMap()) Fail(key, "expected a mapping");
-  return ConfigNode(n, file_, key_path_.empty() ? key : key_path_ + "." + key);
+  ConfigNode child(n, file_, PathOf(key));
+  child.log_ = log_;
+  log_->children.insert(PathOf(key));
+  return child;
 }
 
 namespace {
@@ -91,6 +191,15 @@ int ConfigNode::Integer(const std::string& key) const {
   const YAML::Node n = Require(key);
   int v = 0;
   if (!n.IsScalar() || !YAML::convert<int>::decode(n, v)) Fail(key, "expected an integer, got '" + Text(n) + "'");
+  return v;
+}
+
+int ConfigNode::IntegerInRange(const std::string& key, int lo, int hi) const {
+  const int v = Integer(key);
+  if (v < lo || v > hi) {
+    Fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                  std::to_string(v));
+  }
   return v;
 }
 

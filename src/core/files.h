@@ -8,18 +8,30 @@
 
 namespace robossis {
 
-// Writes `contents` to `path` atomically (temporary file in the same folder, then rename). Throws on failure.
+// Writes `contents` to `path` atomically (temporary file `path.tmp-PID` in the same folder, then rename). Throws on
+// failure. A command writing one file at a path the user chose calls RemoveLeftoversOfDeadRuns(path) first.
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
 // Reads a whole text file; throws std::runtime_error naming the file.
 std::string ReadTextFile(const std::filesystem::path& path);
 
-// A folder of outputs built in a staging folder beside the target (`DIR.partial-PID`). Commit() moves every file
-// into the target (created if needed; same-named files are replaced). If Commit() is never reached (an error, an
-// exception), the destructor removes the staging folder, so the target never holds a partial result.
+// Removes the siblings of `path` named `NAME.SUFFIX-PID` (SUFFIX: partial, old, tmp) whose process is gone.
+void RemoveLeftoversOfDeadRuns(const std::filesystem::path& path);
+
+// A folder of outputs built in a staging folder beside the target (`DIR.partial-PID`). Commit() replaces the
+// target whole with the staging folder (the old target is moved aside and removed), so no stale file of an earlier
+// run is left beside the new ones. If Commit() is never reached (an error, an exception), the destructor removes
+// the staging folder, so the target never holds a partial result.
+//
+// The target may be missing, empty, or an earlier output (it holds the kOutputMarker file that Commit() writes);
+// any other non-empty folder is refused unless `replace_any` (the CLI's --force), so a mistyped --out never
+// deletes someone's data. Staging, aside and temporary files (`.partial-PID`, `.old-PID`, `.tmp-PID`) left by
+// runs that died are removed when the next run starts.
 class StagedOutputDir {
  public:
-  explicit StagedOutputDir(std::filesystem::path target);
+  static constexpr const char* kOutputMarker = ".robossis-output";
+
+  explicit StagedOutputDir(std::filesystem::path target, bool replace_any = false);
   ~StagedOutputDir();
   StagedOutputDir(const StagedOutputDir&) = delete;
   StagedOutputDir& operator=(const StagedOutputDir&) = delete;

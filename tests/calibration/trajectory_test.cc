@@ -97,8 +97,36 @@ TEST(TrajectoryTest, ClearErrors) {
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0,abc,1,0,0,0\n"),
               HasSubstr("cmd.csv line 3: column 'z_m' is 'abc'"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0,0,0,0,1,0,0,0\n"), HasSubstr("does not increase"));
-  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0\n"), HasSubstr("truncated"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0\n"),
+              HasSubstr("line 3: expected exactly 8 cells, one per header column, got 3"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0,0,1,0,0,0,7\n"),
+              HasSubstr("line 3: expected exactly 8 cells, one per header column, got 9"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz,x_m\n"), HasSubstr("'x_m' appears twice (columns 2 and 9)"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n2e6,0,0,0,1,0,0,0\n"),
+              HasSubstr("expected a span of at most"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m\n"), HasSubstr("no orientation columns"));
+}
+
+TEST(TrajectoryTest, HeaderlessCommaSeparatedFileIsNotGuessedAsTum) {
+  try {
+    ParseTum("0,0,0,0,1,0,0,0\n0.1,0,0,0,1,0,0,0\n", "ref.csv");
+    FAIL() << "a headerless CSV was read as TUM";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("ref.csv line 1: commas in a TUM line"));
+  }
+}
+
+TEST(TrajectoryTest, ReferenceReaderSkipsABomAndRefusesADirectory) {
+  const auto path = std::filesystem::temp_directory_path() / "robossis_trajectory_bom.csv";
+  { std::ofstream(path) << "\xEF\xBB\xBFt_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0,0,1,0,0,0\n"; }
+  EXPECT_EQ(ReadReferenceTrajectory(path).size(), 2u);
+  std::filesystem::remove(path);
+  try {
+    ReadReferenceTrajectory(std::filesystem::temp_directory_path());
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("expected a regular file"));
+  }
 }
 
 }  // namespace

@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <filesystem>
 #include <random>
 #include <stdexcept>
@@ -87,6 +89,71 @@ TEST(StagedOutputDirTest, NothingAppearsUnlessCommitted) {
   }
   EXPECT_EQ(ReadTextFile(target / "sub" / "b.txt"), "done");
   std::filesystem::remove_all(target);
+}
+
+TEST(StagedOutputDirTest, ASecondRunReplacesTheFolderWholeWithoutStaleFiles) {
+  const auto target = std::filesystem::temp_directory_path() / "robossis_staged_replace";
+  std::filesystem::remove_all(target);
+  {
+    StagedOutputDir out(target);
+    out.Write("old_figure.svg", "stale");
+    out.Write("data.csv", "1");
+    out.Commit();
+  }
+  {
+    StagedOutputDir out(target);
+    out.Write("data.csv", "2");
+    out.Commit();
+  }
+  EXPECT_EQ(ReadTextFile(target / "data.csv"), "2");
+  EXPECT_FALSE(std::filesystem::exists(target / "old_figure.svg"));
+  std::filesystem::remove_all(target);
+}
+
+TEST(StagedOutputDirTest, RefusesAForeignNonEmptyFolderUnlessForced) {
+  const auto target = std::filesystem::temp_directory_path() / "robossis_staged_foreign";
+  std::filesystem::remove_all(target);
+  std::filesystem::create_directories(target);
+  WriteFileAtomically(target / "thesis.tex", "precious");
+  try {
+    StagedOutputDir out(target);
+    FAIL() << "accepted a foreign folder";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("not an earlier robossis output"));
+  }
+  EXPECT_EQ(ReadTextFile(target / "thesis.tex"), "precious");
+  {
+    StagedOutputDir out(target, /*replace_any=*/true);
+    out.Write("a.txt", "new");
+    out.Commit();
+  }
+  EXPECT_FALSE(std::filesystem::exists(target / "thesis.tex"));
+  EXPECT_THROW(StagedOutputDir("."), std::invalid_argument);
+  std::filesystem::remove_all(target);
+}
+
+TEST(StagedOutputDirTest, LeftoversOfDeadRunsAreRemovedAndLiveOnesKept) {
+  const auto base = std::filesystem::temp_directory_path() / "robossis_staged_leftovers";
+  std::filesystem::remove_all(base);
+  std::filesystem::create_directories(base);
+  const auto target = base / "out";
+  // PID 999999999 is above Linux's pid_max (4194304), so no process has it: a dead run's leftovers.
+  for (const char* stale : {"out.partial-999999999", "out.tmp-999999999", "out.old-999999999"}) {
+    std::filesystem::create_directories(base / stale);
+  }
+  const std::string live = "out.partial-" + std::to_string(::getppid());  // a live process (our parent)
+  std::filesystem::create_directories(base / live);
+  std::filesystem::create_directories(base / "outer.partial-999999999");  // another output's: not ours to touch
+  {
+    StagedOutputDir out(target);
+    out.Commit();
+  }
+  EXPECT_FALSE(std::filesystem::exists(base / "out.partial-999999999"));
+  EXPECT_FALSE(std::filesystem::exists(base / "out.tmp-999999999"));
+  EXPECT_FALSE(std::filesystem::exists(base / "out.old-999999999"));
+  EXPECT_TRUE(std::filesystem::exists(base / live));
+  EXPECT_TRUE(std::filesystem::exists(base / "outer.partial-999999999"));
+  std::filesystem::remove_all(base);
 }
 
 }  // namespace

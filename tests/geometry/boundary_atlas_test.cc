@@ -139,3 +139,36 @@ TEST(AtlasSpecTest, InvalidGridIsRejected) {
 
 }  // namespace
 }  // namespace robossis::geometry
+
+namespace robossis::geometry {
+namespace {
+
+TEST(AtlasHashTest, Fnv1aUsesTheStandardOffsetBasis) {
+  // Published FNV-1a 64-bit test vectors: "" is the offset basis itself; "a" and "foobar".
+  EXPECT_EQ(Fnv1a64Hex(""), "cbf29ce484222325");
+  EXPECT_EQ(Fnv1a64Hex("a"), "af63dc4c8601ec8c");
+  EXPECT_EQ(Fnv1a64Hex("foobar"), "85944171f73967e8");
+}
+
+TEST_F(AtlasTest, RefusesAnotherGeometryAndKnowsItsGrid) {
+  const robot::RsrModel rsr = robot::RsrModel::Default();
+  const robot::Sigma7Model hc = robot::Sigma7Model::Default();
+  const BoundaryAtlas atlas = BoundaryAtlas::Load(*dir_);
+  EXPECT_NO_THROW(atlas.RequireBuiltFor(rsr, hc, "atlas"));
+  robot::RsrGeometry other = rsr.geometry();
+  other.limits.rotary_max_rad *= 0.9;
+  try {
+    atlas.RequireBuiltFor(robot::RsrModel(other), hc, "atlas");
+    FAIL() << "an atlas of other limits was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("built for another robot geometry"), std::string::npos);
+  }
+  // Coarse orientation grid: roll -10..10 deg; 60 deg is far off it, 12 deg within half a step.
+  EXPECT_FALSE(atlas.CoversOrientation({DegToRad(60), 0, 0}));
+  EXPECT_TRUE(atlas.CoversOrientation({DegToRad(12), 0, 0}));
+  EXPECT_TRUE(atlas.CoversPosition(rsr.geometry().X_FM_home.translation()));
+  EXPECT_FALSE(atlas.CoversPosition(rsr.geometry().X_FM_home.translation() + Eigen::Vector3d(1.0, 0, 0)));
+}
+
+}  // namespace
+}  // namespace robossis::geometry

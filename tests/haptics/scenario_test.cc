@@ -93,10 +93,13 @@ TEST(Scenario, CsvErrorsNameTheLineAndColumn) {
   };
   const std::string header = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
   EXPECT_THAT(message("t,x\n0,1\n"), HasSubstr("line 1"));
-  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n1,abc,0,284,0,0,0\n"), HasSubstr("line 3: column 2"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n1,abc,0,284,0,0,0\n"), HasSubstr("line 3, column 2 (x_mm): got 'abc'"));
   EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n0,0,0,284,0,0,0\n"), HasSubstr("increase"));
-  EXPECT_THAT(message(header + "0,0,0,284,0,0\n"), HasSubstr("7 comma-separated"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0\n"), HasSubstr("6 cells; expected exactly 7"));
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n1,0,0,284,0,0,0,9\n"), HasSubstr("8 cells; expected exactly 7"));
   EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n"), HasSubstr("at least 2"));
+  // The span is bounded before the replay starts (a 2-row file spanning 1e7 s would simulate for hours).
+  EXPECT_THAT(message(header + "0,0,0,284,0,0,0\n1e7,0,0,284,0,0,0\n"), HasSubstr("expected a time in [0, 600]"));
 }
 
 }  // namespace

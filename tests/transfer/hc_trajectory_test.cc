@@ -47,23 +47,45 @@ TEST(HcTrajectoryTest, MissingColumnIsNamed) {
 
 TEST(HcTrajectoryTest, NonMonotonicTimeIsRejected) {
   EXPECT_THAT(ErrorOf("order.csv", std::string(kHeader) + "0.002,1,2,3,0,0,0\n0.001,1,2,3,0,0,0\n"),
-              HasSubstr("line 3: 'time_s' 0.001 is before the previous sample's 0.002"));
+              HasSubstr("line 3, column 1 (time_s): got '0.001'; expected a time not before 0.002"));
 }
 
 TEST(HcTrajectoryTest, NanIsRejectedWithItsColumn) {
   EXPECT_THAT(ErrorOf("nan.csv", std::string(kHeader) + "0,1,2,3,0,0,0\n0.001,nan,2,3,0,0,0\n"),
-              HasSubstr("line 3: 'x_mm' is 'nan'; expected a finite number"));
+              HasSubstr("line 3, column 2 (x_mm): got 'nan'; expected a finite number"));
 }
 
 TEST(HcTrajectoryTest, ShortRowAndBadClutchAreRejected) {
   EXPECT_THAT(ErrorOf("short.csv", std::string(kHeader) + "0,1,2,3,0,0,0\n0.001,1,2\n"), HasSubstr("line 3: 3 cells"));
-  EXPECT_THAT(ErrorOf("clutch.csv", "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,clutch\n0,1,2,3,0,0,0,2\n"),
-              HasSubstr("'clutch' is '2'; expected 0 or 1"));
+  EXPECT_THAT(ErrorOf("clutch.csv", "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,clutch\n0,1,2,3,0,0,0,2\n"
+                                         "0.1,1,2,3,0,0,0,1\n"),
+              HasSubstr("(clutch): got '2'; expected 0 or 1"));
 }
 
 TEST(HcTrajectoryTest, EmptyFileIsRejected) {
-  EXPECT_THAT(ErrorOf("empty.csv", ""), HasSubstr("empty file"));
-  EXPECT_THAT(ErrorOf("one.csv", std::string(kHeader) + "0,1,2,3,0,0,0\n"), HasSubstr("fewer than 2 samples"));
+  EXPECT_THAT(ErrorOf("empty.csv", ""), HasSubstr("is empty"));
+  EXPECT_THAT(ErrorOf("one.csv", std::string(kHeader) + "0,1,2,3,0,0,0\n"), HasSubstr("expected at least 2"));
+}
+
+TEST(HcTrajectoryTest, ExtraCellsUnknownOrRepeatedColumnsAndUnboundedTimesAreRejected) {
+  EXPECT_THAT(ErrorOf("extra.csv", std::string(kHeader) + "0,1,2,3,0,0,0\n0.1,1,2,3,0,0,0,5\n"),
+              HasSubstr("line 3: 8 cells; expected exactly 7"));
+  EXPECT_THAT(ErrorOf("dup.csv", "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,x_mm\n0,1,2,3,0,0,0,1\n"),
+              HasSubstr("'x_mm' appears twice (columns 2 and 8)"));
+  EXPECT_THAT(ErrorOf("typo.csv", "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,arival_s\n0,1,2,3,0,0,0,1\n"),
+              HasSubstr("column 8: header name 'arival_s'; expected a known column"));
+  EXPECT_THAT(ErrorOf("negative.csv", std::string(kHeader) + "-5,1,2,3,0,0,0\n0,1,2,3,0,0,0\n"),
+              HasSubstr("line 2, column 1 (time_s): got '-5'; expected a time in [0, 600]"));
+  EXPECT_THAT(ErrorOf("late.csv", "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,arrival_s\n0,1,2,3,0,0,0,1e6\n"
+                                  "0.1,1,2,3,0,0,0,0.1\n"),
+              HasSubstr("(arrival_s): got"));
+}
+
+TEST(HcTrajectoryTest, BomAndQuotedHeadersAreRead) {
+  const HcTrajectory t = ReadHcCsv(WriteTemp(
+      "bom.csv", "\xEF\xBB\xBF\"time_s\",\"x_mm\",y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\r\n0,1,2,3,0,0,0\r\n0.1,\"2\",2,3,0,0,0\r\n"));
+  ASSERT_EQ(t.records.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.clean_records[1].pose_mm_deg[0], 2.0);
 }
 
 TEST(HcTrajectoryTest, Fig8ScenarioHasTheBreakage) {

@@ -1,0 +1,232 @@
+#include "src/core/csv.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "src/core/parse.h"
+
+namespace robossis {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::string Joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+  return out;
+}
+
+std::string Number(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+std::vector<std::string> SplitCsvRecord(std::string_view line, const std::string& where) {
+  std::vector<std::string> fields;
+  std::size_t i = 0;
+  while (true) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    std::string field;
+    if (i < line.size() && line[i] == '"') {
+      ++i;
+      bool closed = false;
+      while (i < line.size()) {
+        if (line[i] == '"') {
+          if (i + 1 < line.size() && line[i + 1] == '"') {
+            field += '"';
+            i += 2;
+            continue;
+          }
+          closed = true;
+          ++i;
+          break;
+        }
+        field += line[i++];
+      }
+      if (!closed) {
+        throw std::invalid_argument(where + ", field " + std::to_string(fields.size() + 1) +
+                                    ": unterminated quote; expected a closing '\"'");
+      }
+      const std::size_t comma = line.find(',', i);
+      const std::string_view rest = Trim(line.substr(i, comma == std::string_view::npos ? line.npos : comma - i));
+      if (!rest.empty()) {
+        throw std::invalid_argument(where + ", field " + std::to_string(fields.size() + 1) + ": text '" +
+                                    std::string(rest) + "' after a closing quote; expected ',' or the end of the line");
+      }
+      i = comma;
+    } else {
+      const std::size_t comma = line.find(',', i);
+      field = std::string(Trim(line.substr(i, comma == std::string_view::npos ? line.npos : comma - i)));
+      i = comma;
+    }
+    fields.push_back(std::move(field));
+    if (i == std::string_view::npos || i >= line.size()) break;
+    ++i;  // past the comma
+    if (i == line.size()) {
+      fields.emplace_back();  // a trailing comma ends with an empty field
+      break;
+    }
+  }
+  return fields;
+}
+
+std::string ReadBoundedFile(const fs::path& file, std::uintmax_t max_bytes, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  if (!fs::exists(status)) throw std::runtime_error(file.string() + ": cannot open the " + what + ": no such file");
+  if (!fs::is_regular_file(status)) {
+    throw std::runtime_error(file.string() + ": expected a regular file (" + what +
+                             "); it is a directory, a device or a pipe");
+  }
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) throw std::runtime_error(file.string() + ": cannot read the size of the " + what);
+  if (size > max_bytes) {
+    throw std::runtime_error(file.string() + ": " + std::to_string(size) + " bytes; expected a " + what +
+                             " of at most " + std::to_string(max_bytes) + " bytes");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open the " + what + " for reading");
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size)) {
+    throw std::runtime_error(file.string() + ": the " + what + " changed or could not be read while reading");
+  }
+  return text;
+}
+
+NumericCsv ReadNumericCsv(const fs::path& file, const CsvSpec& spec) {
+  const std::string text = ReadBoundedFile(file, spec.max_bytes, spec.what);
+  const std::string name = file.string();
+  const std::string expected_header = Joined(spec.columns);
+  std::string_view rest(text);
+  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 byte-order mark (spreadsheet exports)
+  NumericCsv out;
+  int line_number = 0;
+  bool have_header = false;
+  int time_index = -1;
+  double previous_time = 0.0;
+  while (!rest.empty()) {
+    const std::size_t eol = rest.find('\n');
+    std::string_view line = rest.substr(0, eol);
+    rest = eol == std::string_view::npos ? std::string_view() : rest.substr(eol + 1);
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const std::string where = name + " line " + std::to_string(line_number);
+    if (!have_header) {
+      if (line.empty()) {
+        throw std::runtime_error(where + ": empty line; expected the header '" + expected_header + "'");
+      }
+      std::vector<std::string> header;
+      try {
+        header = SplitCsvRecord(line, where);
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(e.what());
+      }
+      std::map<std::string, std::size_t> seen;
+      for (std::size_t c = 0; c < header.size(); ++c) {
+        const auto [it, inserted] = seen.emplace(header[c], c);
+        if (!inserted) {
+          throw std::runtime_error(where + ": column name '" + header[c] + "' appears twice (columns " +
+                                   std::to_string(it->second + 1) + " and " + std::to_string(c + 1) +
+                                   "); expected the header '" + expected_header + "'");
+        }
+      }
+      const std::string format =
+          expected_header + (spec.optional_columns.empty() ? "" : "[," + Joined(spec.optional_columns) + "]");
+      for (std::size_t c = 0; c < header.size(); ++c) {
+        const bool required = std::find(spec.columns.begin(), spec.columns.end(), header[c]) != spec.columns.end();
+        const bool optional = std::find(spec.optional_columns.begin(), spec.optional_columns.end(), header[c]) !=
+                              spec.optional_columns.end();
+        const bool in_place = spec.any_order || c >= spec.columns.size() ? (required || optional)
+                                                                          : header[c] == spec.columns[c];
+        if (!in_place) {
+          throw std::runtime_error(where + ", column " + std::to_string(c + 1) + ": header name '" + header[c] +
+                                   "'; expected " +
+                                   (!spec.any_order && c < spec.columns.size() ? "'" + spec.columns[c] + "'"
+                                                                               : std::string("a known column")) +
+                                   " (the header is " + format + (spec.any_order ? ", in any order)" : ")"));
+        }
+      }
+      for (const std::string& required : spec.columns) {
+        if (seen.count(required) == 0) {
+          throw std::runtime_error(where + ": missing column '" + required + "'; expected the header " + format);
+        }
+      }
+      out.header = header;
+      time_index = spec.time_column.empty() ? -1 : out.Column(spec.time_column);
+      have_header = true;
+      continue;
+    }
+    if (Trim(line).empty()) continue;
+    if (out.rows.size() >= spec.max_rows) {
+      throw std::runtime_error(where + ": more than " + std::to_string(spec.max_rows) + " data rows; expected at most " +
+                               std::to_string(spec.max_rows) + " in a " + spec.what);
+    }
+    std::vector<std::string> cells;
+    try {
+      cells = SplitCsvRecord(line, where);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
+    }
+    if (cells.size() != out.header.size()) {
+      throw std::runtime_error(where + ": " + std::to_string(cells.size()) + " cells; expected exactly " +
+                               std::to_string(out.header.size()) + ", one per header column (" + Joined(out.header) +
+                               ")");
+    }
+    CsvRow row;
+    row.line = line_number;
+    row.values.resize(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::string cell_where =
+          where + ", column " + std::to_string(c + 1) + " (" + out.header[c] + "): got '" + cells[c] + "'";
+      if (!TryParseNumber(cells[c], &row.values[c])) throw std::runtime_error(cell_where + "; expected a finite number");
+      if (static_cast<int>(c) == time_index) {
+        const double t = row.values[c];
+        if (t < spec.min_time || t > spec.max_time) {
+          throw std::runtime_error(cell_where + "; expected a time in [" + Number(spec.min_time) + ", " +
+                                   Number(spec.max_time) + "]");
+        }
+        if (!out.rows.empty() && (spec.allow_equal_times ? t < previous_time : !(t > previous_time))) {
+          throw std::runtime_error(cell_where + "; expected a time " +
+                                   (spec.allow_equal_times ? "not before " : "greater than ") +
+                                   Number(previous_time) + " (the previous row's): times must " +
+                                   (spec.allow_equal_times ? "not decrease" : "increase strictly"));
+        }
+        previous_time = t;
+      }
+    }
+    out.rows.push_back(std::move(row));
+  }
+  if (!have_header) {
+    throw std::runtime_error(name + ": the " + spec.what + " is empty (0 bytes" +
+                             std::string(text.empty() ? "" : " after the byte-order mark") + "); expected the header '" +
+                             expected_header + "'");
+  }
+  if (out.rows.size() < spec.min_rows) {
+    throw std::runtime_error(name + ": " + std::to_string(out.rows.size()) + " data rows; expected at least " +
+                             std::to_string(spec.min_rows) + " in a " + spec.what);
+  }
+  return out;
+}
+
+int NumericCsv::Column(const std::string& name) const {
+  const auto it = std::find(header.begin(), header.end(), name);
+  return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+}
+
+}  // namespace robossis

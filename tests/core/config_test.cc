@@ -1,0 +1,92 @@
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "src/core/config.h"
+
+namespace robossis {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::filesystem::path WriteYaml(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("robossis_config_test_" + name + ".yaml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A loader in the style of the project's: reads two keys of the root and one child mapping, then checks.
+void LoadSample(const std::filesystem::path& file) {
+  const ConfigNode root = ConfigNode::Load(file);
+  root.Number("rate_hz");
+  root.NumberOr("gain", 1.0);
+  root.Child("limits").Integer("count");
+  root.RejectUnreadKeys();
+}
+
+std::string ErrorOf(const std::filesystem::path& file) {
+  try {
+    LoadSample(file);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ConfigTest, AcceptsAFileWithOnlyKnownKeys) {
+  EXPECT_EQ(ErrorOf(WriteYaml("ok", "rate_hz: 100\nlimits:\n  count: 3\n")), "");
+}
+
+TEST(ConfigTest, UnknownKeyNamesFileKeyLineAndNearestValidKey) {
+  const auto file = WriteYaml("typo", "rate_hz: 100\ngian: 2\nlimits:\n  count: 3\n");
+  const std::string e = ErrorOf(file);
+  EXPECT_THAT(e, HasSubstr(file.string()));
+  EXPECT_THAT(e, HasSubstr("'gian' (line 2): unknown key"));
+  EXPECT_THAT(e, HasSubstr("nearest valid key is 'gain'"));
+}
+
+TEST(ConfigTest, UnknownKeyInsideAChildMappingNamesItsPath) {
+  const std::string e = ErrorOf(WriteYaml("child", "rate_hz: 100\nlimits:\n  count: 3\n  cuont: 4\n"));
+  EXPECT_THAT(e, HasSubstr("'limits.cuont' (line 4): unknown key; the nearest valid key is 'count'"));
+}
+
+TEST(ConfigTest, DuplicatedKeyIsAnErrorNamingBothLines) {
+  const std::string e = ErrorOf(WriteYaml("dup", "rate_hz: 100\nlimits:\n  count: 3\nrate_hz: 200\n"));
+  EXPECT_THAT(e, HasSubstr("'rate_hz': duplicated key (lines 1 and 4)"));
+}
+
+TEST(ConfigTest, IntegersAreExact) {
+  for (const char* count : {"2.5", "2.0", "1e3", "abc"}) {
+    const std::string e = ErrorOf(WriteYaml("int", std::string("rate_hz: 1\nlimits:\n  count: ") + count + "\n"));
+    EXPECT_THAT(e, HasSubstr("'limits.count': expected an integer")) << count;
+  }
+}
+
+TEST(ConfigTest, IntegerInRangeNamesTheRange) {
+  const ConfigNode root = ConfigNode::Load(WriteYaml("range", "n: 0\n"));
+  try {
+    root.IntegerInRange("n", 1, 10);
+    FAIL() << "accepted 0";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("'n': expected an integer in [1, 10], got 0"));
+  }
+}
+
+TEST(ConfigTest, DirectoryAndDeviceAreNotCalledMissingOrEmpty) {
+  const std::string dir = ErrorOf(std::filesystem::temp_directory_path());
+  EXPECT_THAT(dir, HasSubstr("expected a regular YAML file"));
+  EXPECT_THAT(ErrorOf("/dev/zero"), HasSubstr("expected a regular YAML file"));
+  EXPECT_THAT(ErrorOf("/nonexistent/robossis.yaml"), HasSubstr("config file not found"));
+}
+
+TEST(ConfigTest, OversizedFileIsRefusedBeforeParsing) {
+  const auto file = WriteYaml("big", "rate_hz: 1\n# " + std::string(ConfigNode::kMaxFileBytes, 'x') + "\n");
+  EXPECT_THAT(ErrorOf(file), HasSubstr("expected a config file of at most"));
+}
+
+}  // namespace
+}  // namespace robossis
