@@ -30,6 +30,7 @@ DhdOptions DhdOptionsFromYaml(const std::filesystem::path& file, DhdOptions defa
   const ConfigNode root = ConfigNode::Load(file);
   defaults.velocity_window_ms =
       static_cast<int>(root.Child("velocity").NumberInRange("window_ms", 1, kMaxVelocityWindowMs));
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return defaults;
 }
 

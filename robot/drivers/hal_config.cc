@@ -73,6 +73,7 @@ HalConfig HalConfig::FromYaml(const std::filesystem::path& file) {
   const ConfigNode mesa = root.Child("mesa");
   c.mesa_board_ip = mesa.String("board_ip");
   c.mesa_watchdog_timeout_ns = mesa.Integer("card_watchdog_timeout_ns");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {

@@ -29,6 +29,7 @@ LinkTuning LinkTuning::FromYaml(const std::filesystem::path& file) {
   t.max_angular_speed_rad_per_s = sp.PositiveNumber("max_angular_speed_rad_per_s");
   t.quaternion_norm_tolerance = sp.NumberInRange("quaternion_norm_tolerance", 0.0, 0.5);
   t.status_state_period_s = root.Child("status").PositiveNumber("state_period_s");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return t;
 }
 

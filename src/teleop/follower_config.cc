@@ -60,6 +60,7 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   c.guard.approach_gain = g.NumberInRange("approach_gain", 1e-6, 1.0);
   c.guard.max_relinearizations = g.Integer("max_relinearizations");
   c.guard.max_halvings = g.Integer("max_halvings");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {

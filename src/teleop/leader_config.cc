@@ -41,6 +41,7 @@ LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
   c.sim_script.sim_radius_m = MmToM(sim.NumberInRange("radius_mm", 0.0, 200.0));
   c.sim_script.sim_frequency_hz = sim.PositiveNumber("frequency_hz");
   c.sim_script.sim_yaw_amplitude_rad = DegToRad(sim.NumberInRange("yaw_amplitude_deg", 0.0, 90.0));
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
