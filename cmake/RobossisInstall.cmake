@@ -7,7 +7,7 @@ include(CMakePackageConfigHelpers)
 
 set(ROBOSSIS_INSTALLED_LIBRARIES
   robossis_core robossis_robot robossis_geometry robossis_sim robossis_calibration robossis_haptics
-  robossis_actuation robossis_transfer robossis_teleop)
+  robossis_actuation robossis_transfer robossis_drivers robossis_teleop)
 # Header folders, relative to the source tree (headers are included as "robot/rsr_model.h", "src/core/config.h").
 set(ROBOSSIS_INSTALLED_HEADER_DIRS src/core robot geometry calibration haptics src/teleop)
 
