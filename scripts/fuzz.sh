@@ -6,7 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-30}"
 shift || true
-all=(fuzz_trajectory_csv fuzz_reference_trajectory fuzz_motive_reader fuzz_yaml_configs fuzz_atlas)
+all=(fuzz_trajectory_csv fuzz_reference_trajectory fuzz_motive_reader fuzz_yaml_configs fuzz_atlas fuzz_setpoint_validation
+     fuzz_session_log)
 if [ $# -gt 0 ]; then targets=("$@"); else targets=("${all[@]}"); fi
 seeds() {
   case "$1" in

@@ -176,7 +176,7 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
                                std::to_string(id));
     }
     const std::size_t size = log.streams[id].record_size;
-    if (pos + 1 + size > bytes.size()) {
+    if (size > bytes.size() - pos - 1) {  // (no overflow: pos < bytes.size())
       log.truncated = true;  // the crash cut the last frame: keep everything before it
       break;
     }
