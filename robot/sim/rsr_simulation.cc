@@ -343,7 +343,7 @@ double RsrSimulation::ring_mass_kg() const { return bullet_->ring_mass; }
 Eigen::Vector3d RsrSimulation::ring_com_M() const { return bullet_->X_MB.translation(); }
 
 bool RsrSimulation::Enable() noexcept {
-  if (state_.fault == robot::FollowerFault::kUnstable) return false;
+  if (state_.faulted()) return false;  // robot::Follower: refused while a fault is latched (ResetFault first)
   state_.enabled = true;
   return true;
 }

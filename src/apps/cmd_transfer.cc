@@ -1,6 +1,9 @@
 // `robossis transfer` and `robossis move`: the motion transfer and actuation chain from the command line.
 
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,11 +19,24 @@ namespace robossis::apps {
 
 namespace {
 
+// A number for a message, as printf formats it.
+std::string Num(double v, const char* format = "%g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// [assumed] The longest move the command line accepts: an hour (a 25 deg turn at the clinical 0.2 deg/s takes
+// 3.5 min); checked before any work starts.
+constexpr double kMaxMoveDurationS = 3600;
+
 struct CommonOptions {
   std::string out;
   std::string start_pose;
   double max_speed_mm_s = 0;
   double max_angular_speed_deg_s = 0;
+  CLI::Option* max_speed_opt = nullptr;
+  CLI::Option* max_angular_speed_opt = nullptr;
   bool clinical = false;
   bool no_plots = false;
   bool json = false;
@@ -28,38 +44,51 @@ struct CommonOptions {
   void Add(CLI::App* cmd) {
     cmd->add_option("--out", out, "Output folder (written atomically: complete or untouched)")->required();
     cmd->add_option("--start-pose", start_pose, "Start pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG (default: home)");
-    cmd->add_option("--max-speed-mm-s", max_speed_mm_s, "Linear speed cap (default: transfer.yaml, 10 mm/s)");
-    cmd->add_option("--max-angular-speed-deg-s", max_angular_speed_deg_s,
-                    "Angular speed cap (default: transfer.yaml, 1 deg/s)");
-    cmd->add_flag("--clinical", clinical, "Clinical caps of the paper: 2 mm/s and 0.2 deg/s");
+    max_speed_opt = cmd->add_option("--max-speed-mm-s", max_speed_mm_s,
+                                    "Linear speed cap, > 0 (default: transfer.yaml, 10 mm/s)");
+    max_angular_speed_opt = cmd->add_option("--max-angular-speed-deg-s", max_angular_speed_deg_s,
+                                            "Angular speed cap, > 0 (default: transfer.yaml, 1 deg/s)");
+    CLI::Option* clinical_opt =
+        cmd->add_flag("--clinical", clinical, "Clinical caps of the paper: 2 mm/s and 0.2 deg/s");
+    clinical_opt->excludes(max_speed_opt)->excludes(max_angular_speed_opt);
     cmd->add_flag("--no-plots", no_plots, "Skip the PNG figures (CSV and JSON only)");
     cmd->add_flag("--json", json, "Print summary.json to stdout");
   }
 
   ChainSetup Setup(const AppContext& context, const robot::RsrModel& model) const {
     ChainSetup s = DefaultChainSetup(context, model);
-    if (clinical) {
-      s.transfer.caps.max_linear_speed_m_s = MmToM(2.0);     // [paper §V]
-      s.transfer.caps.max_angular_speed_rad_s = DegToRad(0.2);  // [paper §V]
-    }
-    if (max_speed_mm_s != 0) {
-      if (!(max_speed_mm_s > 0)) throw std::invalid_argument("--max-speed-mm-s: expected a positive speed");
+    if (clinical) s.transfer.caps = transfer::ClinicalSpeedCaps();
+    // A given value is used as given: 0 is a value (and refused), never "the default".
+    if (max_speed_opt->count() > 0) {
+      if (!(std::isfinite(max_speed_mm_s) && max_speed_mm_s > 0)) {
+        throw std::invalid_argument("--max-speed-mm-s: expected a finite speed > 0, got " + Num(max_speed_mm_s));
+      }
       s.transfer.caps.max_linear_speed_m_s = MmToM(max_speed_mm_s);
     }
-    if (max_angular_speed_deg_s != 0) {
-      if (!(max_angular_speed_deg_s > 0)) {
-        throw std::invalid_argument("--max-angular-speed-deg-s: expected a positive speed");
+    if (max_angular_speed_opt->count() > 0) {
+      if (!(std::isfinite(max_angular_speed_deg_s) && max_angular_speed_deg_s > 0)) {
+        throw std::invalid_argument("--max-angular-speed-deg-s: expected a finite speed > 0, got " +
+                                    Num(max_angular_speed_deg_s));
       }
       s.transfer.caps.max_angular_speed_rad_s = DegToRad(max_angular_speed_deg_s);
     }
     s.transfer.Validate();
     if (!start_pose.empty()) s.X_FM_start = ParsePoseMmDeg(start_pose, "--start-pose");
-    if (!robot::IsPoseFeasible(model, s.X_FM_start)) {
+    if (!robot::CalcInverseKinematics(model, s.X_FM_start).feasible) {
       throw std::invalid_argument("--start-pose: the pose is outside the RSR's joint limits");
     }
     return s;
   }
 };
+
+// Says so when the run met a joint limit (the guard held or slid the set-point, or the validator refused some).
+void ReportLimits(const TransferSummary& s, const char* command) {
+  if (s.guard_limited_ticks == 0 && s.setpoints_rejected == 0 && s.limit_ticks == 0) return;
+  std::cerr << "robossis: warning: " << command << ": the follower was stopped at a joint limit for "
+            << s.guard_limited_ticks << " of " << s.ticks << " ticks (" << Num(s.guard_limited_ticks * 1e-4)
+            << " s at 10 kHz), " << s.setpoints_rejected << " set-points refused; tightest: " << s.tightest_limit
+            << " (margin " << Num(s.min_limit_margin) << "); see summary.json\n";
+}
 
 void Plot(const StagedOutputDir& out, const std::string& script, std::vector<std::string> args,
           const std::string& png) {
@@ -125,6 +154,11 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
     WriteOutputs(out, trace, *tr_options, true);
     out.Commit();
     if (!tr_options->json) PrintSummaryText(trace.summary, tr_options->out);
+    ReportLimits(trace.summary, "transfer");
+    if (trace.summary.follower_limit_violations > 0) {
+      throw std::runtime_error("transfer: the commanded joints broke a joint limit at " +
+                               std::to_string(trace.summary.follower_limit_violations) + " ticks");
+    }
   });
 
   // robossis move
@@ -145,7 +179,8 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
   CLI::Option* spd_deg_opt = mv->add_option("--speed-deg-s", *speed_deg, "Peak angular speed instead of a duration");
   dur_opt->excludes(spd_opt)->excludes(spd_deg_opt);
   mv_options->Add(mv);
-  mv->callback([&context, delta_mm, delta_deg, duration, speed_mm, speed_deg, mv_options] {
+  mv->callback([&context, delta_mm, delta_deg, duration, speed_mm, speed_deg, mv_options, dur_opt, spd_opt,
+                spd_deg_opt] {
     const std::vector<double> dp = ParseNumberList(*delta_mm, 3, "--delta-mm", "DX_MM,DY_MM,DZ_MM");
     const std::vector<double> dr = ParseNumberList(*delta_deg, 3, "--delta-deg", "RX_DEG,RY_DEG,RZ_DEG");
     transfer::TimedMoveRequest req;
@@ -153,33 +188,58 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
     req.delta_rot_F = DegToRad(1.0) * Eigen::Vector3d(dr[0], dr[1], dr[2]);
     if (req.delta_rot_F.norm() >= kPi) throw std::invalid_argument("--delta-deg: the rotation must be below 180 deg");
     double duration_s = *duration;
-    if (duration_s == 0) {
-      if (*speed_mm == 0 && *speed_deg == 0) {
+    if (dur_opt->count() == 0) {  // 0 is a value: "not given" is the option's absence
+      if (spd_opt->count() == 0 && spd_deg_opt->count() == 0) {
         throw std::invalid_argument("move: give --duration-s, or --speed-mm-s / --speed-deg-s");
       }
-      if (*speed_mm < 0 || *speed_deg < 0) throw std::invalid_argument("move: speeds must be positive");
-      const double inf = 1e300;
-      duration_s = transfer::TimedMove::DurationForPeakSpeeds(req, *speed_mm > 0 ? MmToM(*speed_mm) : inf,
-                                                              *speed_deg > 0 ? DegToRad(*speed_deg) : inf);
-      if ((req.delta_p_F.norm() > 0 && *speed_mm == 0) || (req.delta_rot_F.norm() > 0 && *speed_deg == 0)) {
+      for (const auto& [opt, value] : {std::pair{spd_opt, *speed_mm}, std::pair{spd_deg_opt, *speed_deg}}) {
+        if (opt->count() > 0 && !(std::isfinite(value) && value > 0)) {
+          throw std::invalid_argument(opt->get_name() + ": expected a finite speed > 0, got " + Num(value));
+        }
+      }
+      if ((req.delta_p_F.norm() > 0 && spd_opt->count() == 0) ||
+          (req.delta_rot_F.norm() > 0 && spd_deg_opt->count() == 0)) {
         throw std::invalid_argument("move: give a speed for every part that moves (--speed-mm-s, --speed-deg-s)");
       }
-    } else if (!(duration_s > 0)) {
-      throw std::invalid_argument("--duration-s: expected a positive duration, got " + std::to_string(duration_s));
+      const double inf = std::numeric_limits<double>::infinity();
+      duration_s = transfer::TimedMove::DurationForPeakSpeeds(req, spd_opt->count() > 0 ? MmToM(*speed_mm) : inf,
+                                                              spd_deg_opt->count() > 0 ? DegToRad(*speed_deg) : inf);
+      if (duration_s == 0) throw std::invalid_argument("move: --delta-mm and --delta-deg are both zero: nothing to move");
+    } else if (!(std::isfinite(duration_s) && duration_s > 0)) {
+      throw std::invalid_argument("--duration-s: expected a positive duration, got " + Num(duration_s));
+    }
+    if (!(duration_s <= kMaxMoveDurationS)) {
+      throw std::invalid_argument("move: the move lasts " + Num(duration_s) + " s; at most " +
+                                  Num(kMaxMoveDurationS) + " s");
     }
     const robot::RsrModel model = context.LoadRsr();
     ChainSetup setup = mv_options->Setup(context, model);
     setup.settle_s = 0.2;
-    // The move itself must stay inside the workspace: check its end and a few intermediate poses.
+    // The one validated path: every pose of the move at the actuation rate by the exact IK, then the caps.
     const transfer::TimedMove probe(setup.X_FM_start, req, duration_s);
-    for (int i = 1; i <= 20; ++i) {
-      if (!robot::IsPoseFeasible(model, probe.Evaluate(duration_s * i / 20.0).X_FM)) {
-        throw std::invalid_argument("move: the move leaves the RSR's workspace (joint limits) at " +
-                                    std::to_string(5 * i) + " % of its path");
-      }
+    const teleop::PathVerdict verdict = teleop::ValidateMove(probe, setup);
+    if (verdict.verdict == teleop::SetPointVerdict::kInfeasible) {
+      throw std::invalid_argument("move: the move leaves the RSR's workspace (joint limits) at " +
+                                  Num(100.0 * verdict.time_s / duration_s, "%.2f") + " % of its path: arm " +
+                                  std::to_string(verdict.tightest.arm + 1) + " " + robot::ToString(verdict.tightest.joint));
+    }
+    if (!verdict.ok()) {
+      const transfer::SpeedCaps& caps = setup.transfer.caps;
+      throw std::invalid_argument(
+          "move: the move breaks the speed caps (" + Num(MToMm(caps.max_linear_speed_m_s)) + " mm/s, " +
+          Num(RadToDeg(caps.max_angular_speed_rad_s)) + " deg/s): its peak speeds are " +
+          Num(MToMm(probe.peak_linear_speed_m_s())) + " mm/s and " +
+          Num(RadToDeg(probe.peak_angular_speed_rad_s())) + " deg/s (" + teleop::ToString(verdict.verdict) +
+          "); the shortest duration within the caps is " +
+          Num(teleop::MinimumMoveDuration(req, caps), "%.3f") + " s");
     }
     StagedOutputDir out(mv_options->out);
     const TransferTrace trace = RunMoveChain({req}, {duration_s}, setup);
+    if (trace.summary.follower_limit_violations > 0 || trace.summary.setpoints_rejected > 0 ||
+        trace.summary.limit_ticks > 0) {
+      throw std::runtime_error("move: the validated move still met a joint limit (" +
+                               std::to_string(trace.summary.limit_ticks) + " ticks); nothing written");
+    }
     WriteOutputs(out, trace, *mv_options, false);
     out.Commit();
     if (!mv_options->json) PrintSummaryText(trace.summary, mv_options->out);

@@ -36,46 +36,22 @@ void WriteChainSection(DemoContext& demo) {
 
   // The simulation steps at its own rate; each step gets the newest 10 kHz command issued by then.
   const double t_end = demo.fast ? std::min(2.0, trace.t.back()) : trace.t.back();
-  std::string csv = "t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,meas_x_mm,meas_y_mm,meas_z_mm,translation_error_mm,"
-                    "rotation_error_deg\n";
-  double max_e_p = 0, sum_e_p = 0, max_e_r = 0, sum_e_r = 0;
-  long samples = 0;
-  std::size_t k = 0;
-  Eigen::Isometry3d X_cmd = setup.X_FM_start;
-  while (follower.time_s() + follower.step_s() <= t_end + 1e-12) {
-    const double t_next = follower.time_s() + follower.step_s();
-    while (k + 1 < trace.t.size() && trace.t[k + 1] <= t_next + 1e-12) ++k;
-    robot::RsrJointCommand command{trace.t[k], trace.q[k], trace.q_dot[k]};
-    follower.Command(command);
-    if (follower.Step() == sim::SimStepStatus::kUnstable) throw std::runtime_error("chain: the simulation became unstable");
-    // The pose the commanded joints define (FK, warm-started at the previous one) against the pose Bullet measures.
-    const robot::RsrFkResult fk = robot::CalcForwardKinematics(model, trace.q[k], X_cmd);
-    if (!fk.converged()) throw std::runtime_error("chain: FK of the commanded joints did not converge");
-    X_cmd = fk.X_FM;
-    const robot::RsrFollowerState state = follower.State();
-    const double e_p = MToMm((state.X_FM.translation() - X_cmd.translation()).norm());
-    const double e_r = RadToDeg(RotationAngleBetween(state.X_FM.linear(), X_cmd.linear()));
-    max_e_p = std::max(max_e_p, e_p), max_e_r = std::max(max_e_r, e_r);
-    sum_e_p += e_p, sum_e_r += e_r, ++samples;
-    if (samples % 10 == 0) {
-      const Eigen::Vector3d c = X_cmd.translation() * kMToMm, m = state.X_FM.translation() * kMToMm;
-      csv += Num(follower.time_s()) + "," + Num(c.x()) + "," + Num(c.y()) + "," + Num(c.z()) + "," + Num(m.x()) +
-             "," + Num(m.y()) + "," + Num(m.z()) + "," + Num(e_p, "%.3e") + "," + Num(e_r, "%.3e") + "\n";
-    }
-  }
-  demo.out.Write("chain/fig8_through_bullet.csv", csv);
+  const teleop::FollowerReplay replay =
+      teleop::ReplayOnFollower(trace, model, follower, setup.X_FM_start, follower.step_s(), t_end);
+  demo.out.Write("chain/fig8_through_bullet.csv", replay.csv);
+  const double max_e_p = MToMm(replay.max_translation_error_m), max_e_r = RadToDeg(replay.max_rotation_error_rad);
+  const double mean_e_p = MToMm(replay.mean_translation_error_m), mean_e_r = RadToDeg(replay.mean_rotation_error_rad);
 
   std::ostringstream& r = demo.report;
   r << "## 7. The whole follower chain\n\n"
     << "The Fig. 8 hand trajectory of section 4 (1 kHz with breakage) → incremental mapping with dynamic scaling → "
        "10 kHz up-sampling and Kalman filter → Jacobian and eq. 16 joint integration → joint commands into the Bullet "
        "model of section 5 through `robot::Follower` (the mechanism alone, with gravity), over "
-    << Num(follower.time_s(), "%.1f") << " s at " << Num(1.0 / follower.step_s(), "%.0f")
+    << Num(replay.duration_s, "%.1f") << " s at " << Num(1.0 / follower.step_s(), "%.0f")
     << " Hz. The pose Bullet measures against the pose the commanded joints define (FK):\n\n"
     << "| | mean | max |\n|---|---|---|\n"
-    << "| translation error (mm) | " << Num(sum_e_p / std::max<long>(samples, 1), "%.2e") << " | "
-    << Num(max_e_p, "%.2e") << " |\n"
-    << "| rotation error (°) | " << Num(sum_e_r / std::max<long>(samples, 1), "%.2e") << " | " << Num(max_e_r, "%.2e")
+    << "| translation error (mm) | " << Num(mean_e_p, "%.2e") << " | " << Num(max_e_p, "%.2e") << " |\n"
+    << "| rotation error (°) | " << Num(mean_e_r, "%.2e") << " | " << Num(max_e_r, "%.2e")
     << " |\n\nData: `chain/fig8_through_bullet.csv` (every 10th step).\n\n";
 }
 

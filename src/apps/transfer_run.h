@@ -1,89 +1,28 @@
 #pragma once
-// The whole chain, off-line, for the CLI and the demo: HC trajectory (or an eq. 9 move) → motion transfer at 1 and
-// 10 kHz → actuation (Jacobian, eq. 16, pulses) → traces, summary and CSV files.
+// The off-line chain lives in the runtime library (src/teleop/offline_chain.h); the command line and the demo reach
+// it through these names, with the chain configured from the app's data folder.
 
-#include <array>
-#include <string>
-#include <vector>
-
-#include <nlohmann/json.hpp>
-
-#include "haptics/transfer/hc_trajectory.h"
-#include "haptics/transfer/motion_transfer.h"
-#include "haptics/transfer/timed_move.h"
-#include "robot/actuation/actuator.h"
 #include "src/apps/app_context.h"
 #include "src/core/files.h"
+#include "src/teleop/offline_chain.h"
 
 namespace robossis::apps {
 
-struct TransferSummary {
-  double max_speed_mm_s = 0;          // max |v| of the set-point (norm)
-  double max_angular_speed_deg_s = 0; // max |omega|
-  double max_accel_mm_s2 = 0;         // max |a| (linear, norm)
-  double max_jerk_mm_s3 = 0;          // max |da/dt| (linear, norm, at 10 kHz)
-  double max_angular_accel_deg_s2 = 0;
-  double delay_ms = 0;                // lag minimising the RMS between set-point and ideal incremental velocities
-  double delay_rms_residual_mm_s = 0; // the velocity RMS left at that lag (mm/s, or deg/s for a pure rotation)
-  double steps_error_max = 0;         // max |n - s| over motors and ticks (steps)
-  double max_hc_speed_mm_s = 0;       // the hand, for Fig. 8b
-  double final_tracking_error_mm = 0; // |set-point - ideal| after settling
-  double max_joint_ik_error = 0;      // max |q - IK(x)| over ticks (m or rad, the larger)
-  std::array<std::int64_t, 6> steps_total{};  // steps issued (signed) per motor at the end
-  std::array<double, 6> steps_commanded{};   // s at the end
-  std::size_t num_events = 0;
-  std::size_t ticks = 0;
-  std::size_t limit_ticks = 0;
-  std::size_t rate_limited_ticks = 0;
-  transfer::TransferCounters counters;
-  double max_step_rate_hz = 0;  // highest per-motor step rate seen (over 10 ms windows)
-};
+using teleop::ChainSetup;
+using teleop::HcRecordsCsv;
+using teleop::JointsCsv;
+using teleop::PulsesCsv;
+using teleop::RunMoveChain;
+using teleop::RunTransferChain;
+using teleop::SetPointsCsv;
+using teleop::SlowTraceCsv;
+using teleop::SummaryJson;
+using teleop::TransferSummary;
+using teleop::TransferTrace;
 
-struct TransferTrace {
-  // 10 kHz
-  std::vector<double> t;
-  std::vector<Vector6d> displacement, velocity, acceleration;
-  std::vector<robot::RsrJointVector> q, q_dot;
-  std::vector<std::array<std::int64_t, 6>> steps;
-  // 1 kHz
-  std::vector<double> t_slow;
-  std::vector<Vector6d> goal, hc_view;  // eq. 10 goal; the last delivered HC pose (mm/deg) as the controller sees it
-  std::vector<double> scale_linear, scale_angular, hc_speed;
-  // the ideal incremental trajectory (clean hand, eq. 10–11 only), 1 kHz at hand time
-  std::vector<double> t_ref;
-  std::vector<Vector6d> ref;
-  std::vector<actuation::StepEvent> events;
-  robot::RsrJointVector q_start = robot::RsrJointVector::Zero();
-  TransferSummary summary;
-};
-
-struct ChainSetup {
-  transfer::TransferConfig transfer;
-  actuation::ActuationConfig actuation;
-  const robot::RsrModel* model = nullptr;
-  Eigen::Isometry3d X_FM_start = Eigen::Isometry3d::Identity();
-  bool with_actuation = true;  // false: transfer only (the filter sweep)
-  double settle_s = 1.0;       // extra time after the last sample
-};
-
-// The chain as configured: transfer.yaml and actuation.yaml of the app's data folder, starting at the home pose of
-// `model` (which must outlive the setup).
-ChainSetup DefaultChainSetup(const AppContext& app, const robot::RsrModel& model);
-
-// Replays an HC trajectory through the chain.
-TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup);
-// A sequence of eq. 9 moves (each from where the previous ended) through the actuation.
-TransferTrace RunMoveChain(const std::vector<transfer::TimedMoveRequest>& moves, const std::vector<double>& durations,
-                           const ChainSetup& setup);
-
-// summary.json: the keys first, then the details.
-nlohmann::ordered_json SummaryJson(const TransferSummary& s);
-
-// CSV writers (units at the edge: mm, deg).
-std::string SetPointsCsv(const TransferTrace& trace, int decimate = 1);
-std::string JointsCsv(const TransferTrace& trace, int decimate = 1);
-std::string PulsesCsv(const TransferTrace& trace);
-std::string SlowTraceCsv(const TransferTrace& trace);
-std::string HcRecordsCsv(const transfer::HcTrajectory& hc);
+// The chain as configured in the app's data folder (transfer.yaml, actuation.yaml, follower.yaml).
+inline ChainSetup DefaultChainSetup(const AppContext& app, const robot::RsrModel& model) {
+  return teleop::LoadChainSetup(app.data_dir / "config", model);
+}
 
 }  // namespace robossis::apps

@@ -19,16 +19,6 @@ void StoreVector(const Vec& v, std::array<double, N>& out) noexcept {
   for (int i = 0; i < N; ++i) out[i] = v[i];
 }
 
-// Limits the twist step to the speed caps over dt (each part along its own direction).
-Vector6d CapStep(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept {
-  Vector6d out = step;
-  const double lin = step.head<3>().norm(), ang = step.tail<3>().norm();
-  const double lin_max = caps.max_linear_speed_m_s * dt, ang_max = caps.max_angular_speed_rad_s * dt;
-  if (lin > lin_max) out.head<3>() *= lin_max / lin;
-  if (ang > ang_max) out.tail<3>() *= ang_max / ang;
-  return out;
-}
-
 // Moves `value` towards zero by at most `delta` along its own direction.
 Eigen::Vector3d Decelerate(const Eigen::Vector3d& value, double delta) noexcept {
   const double n = value.norm();
@@ -142,14 +132,14 @@ void FollowerUnit::Tick() noexcept {
   const transfer::SpeedCaps& caps = config_.setpoint.caps;
   Vector6d step = Vector6d::Zero();
   if (machine_.following()) {
-    step = CapStep(robot::TwistStepBetween(X_cmd_, WantedPose(now)), caps, dt);
+    step = CapStepToSpeeds(robot::TwistStepBetween(X_cmd_, WantedPose(now)), caps, dt);
   } else {
     need_anchor_ = true;  // resuming re-anchors
     if (machine_.powered()) {
       Vector6d twist = twist_cmd_;
       twist.head<3>() = Decelerate(twist_cmd_.head<3>(), config_.watchdog.hold_decel_m_s2 * dt);
       twist.tail<3>() = Decelerate(twist_cmd_.tail<3>(), config_.watchdog.hold_decel_rad_s2 * dt);
-      step = CapStep(twist * dt, caps, dt);
+      step = CapStepToSpeeds(twist * dt, caps, dt);
     }
   }
   robot::FeasibleMotionResult guarded;

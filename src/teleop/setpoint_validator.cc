@@ -39,6 +39,15 @@ void SetPointLimits::Validate() const {
           cap_tolerance, "0..0.5");
 }
 
+Vector6d CapStepToSpeeds(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept {
+  Vector6d out = step;
+  const double lin = step.head<3>().norm(), ang = step.tail<3>().norm();
+  const double lin_max = caps.max_linear_speed_m_s * dt, ang_max = caps.max_angular_speed_rad_s * dt;
+  if (lin > lin_max) out.head<3>() *= lin_max / lin;
+  if (ang > ang_max) out.tail<3>() *= ang_max / ang;
+  return out;
+}
+
 SetPointSample SampleFromMessage(const SetPointMessage& m) noexcept {
   SetPointSample s;
   s.time_s = 1e-9 * static_cast<double>(m.stamp_ns);

@@ -42,6 +42,10 @@ enum class SetPointVerdict : std::uint8_t {
 inline constexpr int kNumSetPointVerdicts = 7;
 const char* ToString(SetPointVerdict verdict);
 
+// The twist step [dp; dtheta] shortened to the speed caps over dt (each part along its own direction): how a
+// follower moves towards a set-point that is farther than one tick at the caps.
+Vector6d CapStepToSpeeds(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept;
+
 // One set-point in SI: time (s), pose, twist [v; omega] in F.
 struct SetPointSample {
   double time_s = 0;

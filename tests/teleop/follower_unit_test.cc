@@ -222,6 +222,22 @@ TEST_F(FollowerUnitTest, DrivenIntoTheStrokeLimitsItStaysInside) {
   EXPECT_TRUE(robot::CalcInverseKinematics(model_, unit_.commanded_pose()).feasible);
 }
 
+TEST_F(FollowerUnitTest, AHandFarFasterThanTheCapsNeverDrivesTheRobotFaster) {
+  // 250 mm/s (25x the cap), as a surgeon's hand can move: the set-points are refused as too fast, the watchdog
+  // holds, and the commanded pose never moves faster than the cap.
+  EnableAndFollow();
+  leader_velocity_ = Eigen::Vector3d(0.25, 0, 0);
+  double prev = CmdX();
+  for (int i = 0; i < 5000; ++i) {
+    Step();
+    EXPECT_LE(std::abs(CmdX() - prev), 1.02 * transfer_.caps.max_linear_speed_m_s * 1e-4 + 1e-12) << i;
+    prev = CmdX();
+  }
+  EXPECT_GT(unit_.counters().setpoints_by_verdict[static_cast<int>(SetPointVerdict::kTooFast)], 100u);
+  EXPECT_EQ(unit_.counters().limit_violations, 0u);
+  EXPECT_TRUE(robot::CalcInverseKinematics(model_, unit_.commanded_pose()).feasible);
+}
+
 TEST_F(FollowerUnitTest, PublishesStatusAndRecordsEveryTick) {
   EnableAndFollow();
   FollowerTickRecord r;

@@ -1,5 +1,6 @@
 // `robossis transfer` and `robossis move` as a user meets them: outputs, summary keys, one-line errors.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -79,6 +80,39 @@ INSTANTIATE_TEST_SUITE_P(
                       std::make_pair("move --delta-mm 1,2 --duration-s 1", "--delta-mm: expected 3"),
                       std::make_pair("move --delta-mm 0,0,5 --duration-s -1", "--duration-s"),
                       std::make_pair("move --delta-mm 0,0,500 --duration-s 1", "leaves the RSR's workspace"),
-                      std::make_pair("transfer --scenario slow --max-speed-mm-s -3", "--max-speed-mm-s")));
+                      std::make_pair("transfer --scenario slow --max-speed-mm-s -3", "--max-speed-mm-s"),
+                      // One validated path: a duration that breaks the caps is refused, clinical or not.
+                      std::make_pair("move --delta-deg 0,0,2 --duration-s 0.255 --clinical", "breaks the speed caps"),
+                      std::make_pair("move --delta-deg 0,0,2 --duration-s 0.255", "breaks the speed caps"),
+                      std::make_pair("move --delta-mm 0,0,2 --speed-mm-s 50", "breaks the speed caps"),
+                      // 0 is a value, never "the default".
+                      std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 0",
+                                     "--max-speed-mm-s: expected a finite speed > 0, got 0"),
+                      std::make_pair("move --delta-mm 0,0,5 --duration-s 0", "--duration-s: expected a positive"),
+                      std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --clinical --max-speed-mm-s 50",
+                                     "excludes"),
+                      std::make_pair("move --delta-mm 0,0,5 --duration-s 1e9", "at most 3600 s")));
+
+// A hand that turns (7.2 deg/s under an 8 deg/s cap) to 40 deg of yaw: the follower stops at the spherical cones
+// (25 deg) without crossing them, and the run says so.
+TEST(TransferCliTest, TransferStopsAtTheConesAndSaysSo) {
+  const auto hand = Temp("yaw.csv");
+  {
+    std::ofstream f(hand);
+    f << "time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
+    for (int k = 0; k <= 6000; k += 2) f << k * 1e-3 << ",0,0,0,0,0," << std::min(7.2 * k * 1e-3, 40.0) << "\n";
+  }
+  const auto out = Temp("yaw");
+  std::filesystem::remove_all(out);
+  const CommandRun run = Robossis("transfer --hc " + hand.string() + " --max-angular-speed-deg-s 8 --out " +
+                                  out.string() + " --no-plots");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("stopped at a joint limit"));
+  EXPECT_THAT(run.output, HasSubstr("spherical_cone"));
+  const auto doc = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(doc["follower_limit_violations"].get<int>(), 0);
+  EXPECT_GT(doc["guard_limited_ticks"].get<int>(), 1000);
+  EXPECT_GE(doc["min_limit_margin"].get<double>(), 0.0);
+}
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "src/apps/transfer_run.h"
+#include "src/teleop/offline_chain.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,12 +8,20 @@
 #include <stdexcept>
 
 #include "src/core/units.h"
+#include "src/teleop/follower_config.h"
 
-namespace robossis::apps {
+namespace robossis::teleop {
 
 namespace {
 
 using transfer::HcRecord;
+
+// The validator's caps are the transfer's: one place for each limit, whatever the caller changed.
+SetPointLimits LimitsWithTransferCaps(const ChainSetup& setup) {
+  SetPointLimits limits = setup.limits;
+  limits.caps = setup.transfer.caps;
+  return limits;
+}
 
 // The ideal incremental trajectory: the clean hand through eq. 10–11 alone (no stall, no filter), at hand time.
 void IdealReference(const transfer::HcTrajectory& hc, const transfer::TransferConfig& config, TransferTrace& trace) {
@@ -82,7 +90,13 @@ void EstimateDelay(TransferTrace& tr) {
 // Per-tick bookkeeping shared by both chains.
 class Recorder {
  public:
-  Recorder(TransferTrace& trace, const ChainSetup& setup) : tr_(trace), setup_(setup) {}
+  Recorder(TransferTrace& trace, const ChainSetup& setup)
+      : tr_(trace), setup_(setup), validator_(*setup.model, LimitsWithTransferCaps(setup)), guard_(*setup.model, setup.guard),
+        X_cmd_(setup.X_FM_start) {
+    const robot::RsrLimitCheck start = robot::CalcInverseKinematics(*setup.model, setup.X_FM_start).tightest();
+    tr_.summary.min_limit_margin = start.margin;
+    tr_.summary.tightest_limit = "arm " + std::to_string(start.arm + 1) + " " + robot::ToString(start.joint);
+  }
 
   void FastTick(const transfer::RsrSetPoint& sp, double time_s, actuation::Actuator* act) {
     const double dt = 1.0 / setup_.transfer.rates.actuation_rate_hz;
@@ -102,7 +116,31 @@ class Recorder {
     have_prev_ = true;
     ++s.ticks;
     if (act == nullptr) return;
-    const actuation::ActuationOutput& out = act->Tick(time_s, sp.X_FM, sp.velocity);
+    // The one validated path: the guard projects the set-point onto the feasible set (no joint limit crossed, the
+    // cones included; exact IK), then the validator checks it (finite, in order, inside, caps). A refused set-point
+    // holds the robot where it is.
+    // A held robot approaches a set-point that ran ahead at the caps, never faster.
+    const Vector6d towards = CapStepToSpeeds(robot::TwistStepBetween(X_cmd_, sp.X_FM), setup_.transfer.caps, dt);
+    const bool reachable = towards == robot::TwistStepBetween(X_cmd_, sp.X_FM);
+    const robot::FeasibleMotionResult guarded =
+        guard_.Step(X_cmd_, reachable ? sp.X_FM : robot::ApplyTwistStep(X_cmd_, towards));
+    if (guarded.status != robot::FeasibleMotionStatus::kTracked) ++s.guard_limited_ticks;
+    SetPointSample sample;
+    sample.time_s = time_s;
+    sample.X_FM = guarded.X_FM;
+    sample.twist_F = guarded.status == robot::FeasibleMotionStatus::kTracked && reachable
+                         ? sp.velocity
+                         : Vector6d(robot::TwistStepBetween(X_cmd_, guarded.X_FM) / dt);
+    const SetPointVerdict verdict = validator_.Check(sample);
+    Vector6d twist = Vector6d::Zero();
+    if (verdict == SetPointVerdict::kAccepted) {
+      X_cmd_ = guarded.X_FM;
+      twist = sample.twist_F;
+    } else {
+      ++s.setpoints_rejected;
+      ++s.rejected_by_verdict[static_cast<int>(verdict)];
+    }
+    const actuation::ActuationOutput& out = act->Tick(time_s, X_cmd_, twist);
     tr_.q.push_back(out.command.q);
     tr_.q_dot.push_back(out.command.q_dot);
     tr_.steps.push_back(out.steps);
@@ -110,7 +148,13 @@ class Recorder {
     for (int m = 0; m < 6; ++m) s.steps_error_max = std::max(s.steps_error_max, std::abs(out.step_error[m]));
     if (out.status == actuation::ActuationStatus::kJointLimit) ++s.limit_ticks;
     if (out.status == actuation::ActuationStatus::kRateLimit) ++s.rate_limited_ticks;
-    const robot::RsrIkResult ik = robot::CalcInverseKinematics(*setup_.model, sp.X_FM);
+    const robot::RsrIkResult ik = robot::CalcInverseKinematics(*setup_.model, X_cmd_);
+    if (!ik.feasible) ++s.follower_limit_violations;
+    const robot::RsrLimitCheck& tight = ik.tightest();
+    if (tight.margin < s.min_limit_margin) {
+      s.min_limit_margin = tight.margin;
+      s.tightest_limit = "arm " + std::to_string(tight.arm + 1) + " " + robot::ToString(tight.joint);
+    }
     if (ik.feasible) {
       s.max_joint_ik_error = std::max(s.max_joint_ik_error, (ik.joints.actuated() - out.command.q).cwiseAbs().maxCoeff());
     }
@@ -141,19 +185,69 @@ class Recorder {
  private:
   TransferTrace& tr_;
   const ChainSetup& setup_;
+  SetPointValidator validator_;
+  robot::FeasibleMotionGuard guard_;
+  Eigen::Isometry3d X_cmd_;
   Eigen::Vector3d prev_a_ = Eigen::Vector3d::Zero();
   bool have_prev_ = false;
 };
 
 }  // namespace
 
-ChainSetup DefaultChainSetup(const AppContext& app, const robot::RsrModel& model) {
+ChainSetup LoadChainSetup(const std::filesystem::path& config_dir, const robot::RsrModel& model) {
   ChainSetup setup;
-  setup.transfer = transfer::TransferConfig::FromYaml(app.ConfigPath("transfer.yaml"));
-  setup.actuation = actuation::ActuationConfig::FromYaml(app.ConfigPath("actuation.yaml"));
+  setup.transfer = transfer::TransferConfig::FromYaml(config_dir / "transfer.yaml");
+  setup.actuation = actuation::ActuationConfig::FromYaml(config_dir / "actuation.yaml");
+  const FollowerConfig follower = FollowerConfig::FromYaml(config_dir / "follower.yaml", setup.transfer.caps);
+  setup.limits = follower.setpoint;
+  setup.guard = follower.guard;
   setup.model = &model;
   setup.X_FM_start = model.geometry().X_FM_home;
   return setup;
+}
+
+double MinimumMoveDuration(const transfer::TimedMoveRequest& request, const transfer::SpeedCaps& caps) {
+  const double inf = std::numeric_limits<double>::infinity();
+  return transfer::TimedMove::DurationForPeakSpeeds(
+      request, caps.max_linear_speed_m_s > 0 ? caps.max_linear_speed_m_s : inf,
+      caps.max_angular_speed_rad_s > 0 ? caps.max_angular_speed_rad_s : inf);
+}
+
+PathVerdict ValidateMove(const transfer::TimedMove& move, const ChainSetup& setup) {
+  const double dt = 1.0 / setup.transfer.rates.actuation_rate_hz;
+  const double t0 = move.end_time_s() - move.duration_s();
+  const auto n = static_cast<std::size_t>(std::ceil(move.duration_s() / dt - 1e-9));
+  PathVerdict out;
+  // The whole path by the exact IK first, so that a path through the wall is named as such whatever its speed.
+  for (std::size_t k = 0; k <= n; ++k) {
+    const double t = std::min(t0 + k * dt, move.end_time_s());
+    const robot::RsrIkResult ik = robot::CalcInverseKinematics(*setup.model, move.Evaluate(t).X_FM);
+    if (!ik.feasible) {
+      out.verdict = SetPointVerdict::kInfeasible;
+      out.index = k;
+      out.time_s = t;
+      out.tightest = ik.tightest();
+      return out;
+    }
+  }
+  SetPointValidator validator(*setup.model, LimitsWithTransferCaps(setup));
+  for (std::size_t k = 0; k <= n; ++k) {
+    const double t = std::min(t0 + k * dt, move.end_time_s());
+    const transfer::RsrSetPoint sp = move.Evaluate(t);
+    SetPointSample sample;
+    sample.time_s = t0 + k * dt;
+    sample.X_FM = sp.X_FM;
+    sample.twist_F = sp.velocity;
+    const SetPointVerdict v = validator.Check(sample);
+    if (v != SetPointVerdict::kAccepted) {
+      out.verdict = v;
+      out.index = k;
+      out.time_s = t;
+      out.tightest = validator.tightest();
+      return out;
+    }
+  }
+  return out;
 }
 
 TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup) {
@@ -236,6 +330,47 @@ TransferTrace RunMoveChain(const std::vector<transfer::TimedMoveRequest>& moves,
   return tr;
 }
 
+FollowerReplay ReplayOnFollower(const TransferTrace& trace, const robot::RsrModel& model, robot::Follower& follower,
+                                const Eigen::Isometry3d& X_FM_start, double step_s, double t_end, int csv_every) {
+  if (trace.q.empty()) throw std::invalid_argument("replay: the trace has no joint commands");
+  FollowerReplay r;
+  r.csv = "t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,meas_x_mm,meas_y_mm,meas_z_mm,translation_error_mm,rotation_error_deg\n";
+  const auto num = [](double v, const char* format) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, format, v);
+    return std::string(buf);
+  };
+  double sum_e_p = 0, sum_e_r = 0;
+  std::size_t k = 0;
+  Eigen::Isometry3d X_cmd = X_FM_start;
+  for (long n = 1; n * step_s <= t_end + 1e-12; ++n) {
+    const double t_next = n * step_s;
+    while (k + 1 < trace.t.size() && trace.t[k + 1] <= t_next + 1e-12) ++k;
+    follower.Command(robot::RsrJointCommand{trace.t[k], trace.q[k], trace.q_dot[k]});
+    follower.Service(t_next);
+    const robot::RsrFollowerState state = follower.State();
+    if (state.fault == robot::FollowerFault::kUnstable) throw std::runtime_error("replay: the simulation became unstable");
+    const robot::RsrFkResult fk = robot::CalcForwardKinematics(model, trace.q[k], X_cmd);
+    if (!fk.converged()) throw std::runtime_error("replay: FK of the commanded joints did not converge");
+    X_cmd = fk.X_FM;
+    const double e_p = (state.X_FM.translation() - X_cmd.translation()).norm();
+    const double e_r = RotationAngleBetween(state.X_FM.linear(), X_cmd.linear());
+    r.max_translation_error_m = std::max(r.max_translation_error_m, e_p);
+    r.max_rotation_error_rad = std::max(r.max_rotation_error_rad, e_r);
+    sum_e_p += e_p, sum_e_r += e_r, ++r.steps;
+    r.duration_s = t_next;
+    if (r.steps % csv_every == 0) {
+      const Eigen::Vector3d c = X_cmd.translation() * kMToMm, m = state.X_FM.translation() * kMToMm;
+      r.csv += num(t_next, "%.4f") + "," + num(c.x(), "%.4f") + "," + num(c.y(), "%.4f") + "," + num(c.z(), "%.4f") +
+               "," + num(m.x(), "%.4f") + "," + num(m.y(), "%.4f") + "," + num(m.z(), "%.4f") + "," +
+               num(MToMm(e_p), "%.3e") + "," + num(RadToDeg(e_r), "%.3e") + "\n";
+    }
+  }
+  r.mean_translation_error_m = sum_e_p / std::max<long>(r.steps, 1);
+  r.mean_rotation_error_rad = sum_e_r / std::max<long>(r.steps, 1);
+  return r;
+}
+
 nlohmann::ordered_json SummaryJson(const TransferSummary& s) {
   nlohmann::ordered_json j;
   j["max_speed_mm_s"] = s.max_speed_mm_s;
@@ -255,6 +390,16 @@ nlohmann::ordered_json SummaryJson(const TransferSummary& s) {
   j["max_step_rate_hz"] = s.max_step_rate_hz;
   j["ticks_10khz"] = s.ticks;
   j["joint_limit_ticks"] = s.limit_ticks;
+  j["guard_limited_ticks"] = s.guard_limited_ticks;
+  j["setpoints_rejected"] = s.setpoints_rejected;
+  nlohmann::ordered_json by_verdict;
+  for (int v = 1; v < kNumSetPointVerdicts; ++v) {
+    by_verdict[ToString(static_cast<SetPointVerdict>(v))] = s.rejected_by_verdict[v];
+  }
+  j["setpoints_rejected_by_reason"] = by_verdict;
+  j["follower_limit_violations"] = s.follower_limit_violations;
+  j["min_limit_margin"] = s.min_limit_margin;
+  j["tightest_limit"] = s.tightest_limit;
   j["rate_limited_ticks"] = s.rate_limited_ticks;
   j["hc_samples"] = {{"accepted", s.counters.accepted}, {"anchored", s.counters.anchored},
                      {"repeated", s.counters.repeated}, {"late", s.counters.late},
@@ -350,4 +495,4 @@ std::string HcRecordsCsv(const transfer::HcTrajectory& hc) {
   return out;
 }
 
-}  // namespace robossis::apps
+}  // namespace robossis::teleop
