@@ -1,10 +1,13 @@
-// The panel's simulated follower, driven in simulated time (Step() without the loop thread): the state machine, a
-// jog moving the Bullet RSR by the requested amount, refusals leaving it still, the E-stop latching, and a tick
-// that allocates nothing.
+// The panel's simulated follower, driven in simulated time (Step() without the loop thread, 10 kHz follower ticks):
+// the follower unit's states as the panel sees them, a jog played as set-points moving the Bullet RSR by the
+// requested amount, refusals leaving it still, the E-stop latching, and a tick that allocates nothing.
 
 #include <gtest/gtest.h>
 
+#include "haptics/transfer/transfer_config.h"
+#include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
+#include "src/core/rt/clock.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
 #include "src/panel/simulated_follower_backend.h"
@@ -19,16 +22,29 @@ using teleop::StateCommand;
 
 class SimulatedFollowerBackendTest : public ::testing::Test {
  protected:
+  static teleop::FollowerConfig Follower() {
+    const transfer::TransferConfig transfer =
+        transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
+    return teleop::FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer.caps);
+  }
+  static JogLimits Limits(const teleop::FollowerConfig& follower) {
+    JogLimits limits;
+    limits.setpoint = follower.setpoint;  // the preview's limits are the follower unit's
+    return limits;
+  }
+
   SimulatedFollowerBackendTest()
       : model_(robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml")),
+        follower_(Follower()),
         backend_(model_, sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir()), true,
-                 JogLimits{}, 1000) {}
+                 follower_, actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml"),
+                 Limits(follower_), 10000, clock_) {}
 
   void Run(double seconds) {
-    const int ticks = static_cast<int>(seconds * 1000 + 0.5);
+    const int ticks = static_cast<int>(seconds * 10000 + 0.5);
     for (int i = 0; i < ticks; ++i) {
-      now_s_ += 1e-3;
-      backend_.Step(now_s_);
+      clock_.AdvanceNs(100'000);  // 10 kHz
+      backend_.Step();
     }
   }
   teleop::FollowerStatusMessage Status() {
@@ -49,9 +65,10 @@ class SimulatedFollowerBackendTest : public ::testing::Test {
     return request;
   }
 
+  rt::SimulatedClock clock_;
   robot::RsrModel model_;
+  teleop::FollowerConfig follower_;
   SimulatedFollowerBackend backend_;
-  double now_s_ = 0;
 };
 
 TEST_F(SimulatedFollowerBackendTest, StartsDisabledAndRefusesJogsUntilHomed) {
@@ -75,6 +92,21 @@ TEST_F(SimulatedFollowerBackendTest, AJogMovesTheRobotByTheRequestedAmount) {
   LoopHealth health;
   ASSERT_TRUE(backend_.ReadHealth(health));
   EXPECT_GE(health.setpoint_age_s, 0);
+}
+
+TEST_F(SimulatedFollowerBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitValidatesAndFollows) {
+  HomeToReady();
+  const std::uint64_t accepted_before = backend_.follower_counters().setpoints_accepted;
+  ASSERT_TRUE(backend_.StartJog(JogZ(5, 1)).accepted);
+  Run(0.5);
+  EXPECT_EQ(Status().state, OperatingState::kEnabled);  // presence + valid set-points: the unit follows
+  Run(1.0);
+  EXPECT_EQ(Status().state, OperatingState::kReady);  // the move ended: no presence, the unit holds
+  const teleop::FollowerCounters& counters = backend_.follower_counters();
+  EXPECT_GE(counters.setpoints_accepted - accepted_before, 1400u);  // 1.5 s of 1 kHz set-points
+  EXPECT_EQ(counters.setpoints_rejected, 0u);
+  EXPECT_EQ(counters.commands_refused, 0u);
+  EXPECT_GT(Status().setpoints_accepted, accepted_before);  // the status the panel shows is the unit's
 }
 
 TEST_F(SimulatedFollowerBackendTest, ARefusedMoveLeavesTheRobotStill) {
@@ -107,10 +139,17 @@ TEST_F(SimulatedFollowerBackendTest, EStopLatchesUntilReset) {
   EXPECT_FALSE(backend_.StartJog(JogZ(1, 1)).accepted);
   Run(1.0);
   EXPECT_NEAR(MToMm(PoseOf(Status()).translation().z() - z_at_stop), 0, 0.2);  // the rest of the jog never ran
+  // The follower unit's reset releases the latch into DISABLED (drives off until the next enable), then Home.
   ASSERT_TRUE(backend_.SendCommand(StateCommand::kReset));
   Run(0.05);
-  EXPECT_EQ(Status().state, OperatingState::kReady);
+  EXPECT_EQ(Status().state, OperatingState::kDisabled);
   EXPECT_EQ(Status().fault_reason, teleop::FaultReason::kNone);
+  HomeToReady();
+  // The panel's leader side re-synchronised to where the robot stopped: a new jog runs from there.
+  ASSERT_TRUE(backend_.StartJog(JogZ(1, 1)).accepted);
+  Run(1.5);
+  EXPECT_NEAR(MToMm(PoseOf(Status()).translation().z() - z_at_stop), 1, 0.1);
+  EXPECT_EQ(Status().state, OperatingState::kReady);
 }
 
 TEST_F(SimulatedFollowerBackendTest, StopEndsAJogWhereItIs) {

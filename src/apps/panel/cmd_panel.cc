@@ -5,9 +5,11 @@
 #include <nlohmann/json.hpp>
 
 #include "haptics/transfer/transfer_config.h"
+#include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
 #include "src/apps/app_context.h"
 #include "src/apps/panel/panel_window.h"
+#include "src/core/rt/clock.h"
 #include "src/core/units.h"
 #include "src/panel/simulated_follower_backend.h"
 #include "src/panel/view_model.h"
@@ -77,8 +79,15 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
 
     const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
     const panel::JogLimits limits = LoadJogLimits(context, models);
-    panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, limits,
-                                            models.config.sim_loop_rate_hz);
+    transfer::SpeedCaps caps;  // the follower's caps are the jog limits' (LoadJogLimits): the demonstration caps
+    caps.max_linear_speed_m_s = models.demonstration_caps.max_linear_speed_m_s;
+    caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
+    const teleop::FollowerConfig follower = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps);
+    const actuation::ActuationConfig actuation =
+        actuation::ActuationConfig::FromYaml(context.ConfigPath("actuation.yaml"));
+    const rt::MonotonicClock clock;
+    panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, follower,
+                                            actuation, limits, models.config.sim_loop_rate_hz, clock);
     backend.Start();
     const PanelRunResult result = RunPanelWindow(backend, models, window);
     backend.Stop();

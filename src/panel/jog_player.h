@@ -1,0 +1,60 @@
+#pragma once
+// The panel's leader side: it plays the panel's jogs (eq. 9 timed moves) and its haptic-mode presence as 1 kHz
+// set-points through a teleop::LeaderLink, exactly as a leader unit would, so that the follower unit validates and
+// executes them on its one path. It knows the follower only through the link's status messages.
+//
+// Like a leader at rest, it sends a set-point every leader tick: the hold pose without the presence flag (the
+// follower holds in READY), the eq. 9 pose with presence while a jog runs (the follower follows in ENABLED), and
+// the hold pose with presence (and the clutch flag) in haptic mode, there being no device in this session. Stop ends
+// the move where the path is: no more of its set-points are sent and the follower holds. Whenever the follower
+// leaves its powered states, a running move is dropped and, once powered again, the player re-synchronises its hold
+// pose to the measured pose in a new leader session (so the follower judges no rate across the gap).
+//
+// Real time: one thread calls every method; Tick() and the orders are allocation-free, lock-free and noexcept.
+
+#include <cstdint>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "haptics/transfer/timed_move.h"
+#include "src/core/rt/clock.h"
+#include "src/teleop/link.h"
+
+namespace robossis::panel {
+
+class JogPlayer {
+ public:
+  JogPlayer(teleop::LeaderLink& link, const rt::Clock& clock) noexcept : link_(link), clock_(clock) {}
+
+  // Starts an eq. 9 move from the hold pose now; false (nothing sent) unless the follower is READY and idle.
+  bool StartMove(const Eigen::Vector3d& delta_p_F, const Eigen::Vector3d& delta_rot_F, double duration_s) noexcept;
+  // Ends the running move where its path is now (the new hold pose).
+  void StopMove() noexcept;
+  // Haptic-mode presence: with no device the hand is still, so it holds the pose with presence (and the clutch).
+  void SetHaptic(bool enabled, bool clutched) noexcept;
+
+  // One leader tick: takes the newest follower status and sends one set-point.
+  void Tick() noexcept;
+
+  bool moving() const noexcept { return move_.has_value(); }
+  // The shared clock's time of the last set-point sent with presence; < 0 if none yet.
+  double last_presence_s() const noexcept { return last_presence_s_; }
+  std::uint64_t sent() const noexcept { return sequence_; }
+
+ private:
+  teleop::LeaderLink& link_;
+  const rt::Clock& clock_;
+  bool has_status_ = false;
+  teleop::FollowerStatusMessage status_;
+  bool synced_ = false;  // the hold pose belongs to the current powered period
+  Eigen::Isometry3d X_hold_ = Eigen::Isometry3d::Identity();
+  std::optional<transfer::TimedMove> move_;
+  bool haptic_ = false;
+  bool clutched_ = false;
+  std::uint64_t session_ = 1;
+  std::uint64_t sequence_ = 0;
+  double last_presence_s_ = -1;
+};
+
+}  // namespace robossis::panel
