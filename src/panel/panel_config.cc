@@ -17,6 +17,7 @@ PanelConfig PanelConfig::FromYaml(const std::filesystem::path& file) {
   const ConfigNode sim = root.Child("simulated_follower");
   config.sim_loop_rate_hz = sim.NumberInRange("loop_rate_hz", 10, 20000);
   config.sim_with_gravity = sim.Bool("with_gravity");
+  root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return config;
 }
 
