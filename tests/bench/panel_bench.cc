@@ -11,10 +11,13 @@
 #include <vector>
 
 #include "haptics/transfer/transfer_config.h"
+#include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
 #include "src/apps/panel/panel_window.h"
 #include "src/core/config.h"
+#include "src/core/rt/clock.h"
 #include "src/panel/simulated_follower_backend.h"
+#include "src/teleop/follower_config.h"
 
 namespace {
 
@@ -30,7 +33,11 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
                            {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
                            nullptr};
   if (bone) models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
-  panel::SimulatedFollowerBackend backend(models.rsr, sim_config, true, panel::JogLimits{}, 1000);
+  const teleop::FollowerConfig follower = teleop::FollowerConfig::FromYaml(config / "follower.yaml", transfer.caps);
+  const actuation::ActuationConfig actuation = actuation::ActuationConfig::FromYaml(config / "actuation.yaml");
+  const rt::MonotonicClock clock;
+  panel::SimulatedFollowerBackend backend(models.rsr, sim_config, true, follower, actuation, panel::JogLimits{},
+                                          models.config.sim_loop_rate_hz, clock);
   backend.Start();
   backend.SendCommand(teleop::StateCommand::kHome);
   apps::PanelWindowOptions options;
