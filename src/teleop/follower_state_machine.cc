@@ -71,7 +71,9 @@ void FollowerStateMachine::Update(const FollowerInputs& in, robot::Follower& bac
   }
   switch (state_) {
     case OperatingState::kHoming:
-      if (be.homed) {
+      // A back end that cannot reference yet (the HAL drives before their first feedback) is asked again each tick.
+      if (!be.homed) back_end.Home();
+      if (back_end.State().homed) {
         if (back_end.Enable()) {
           Enter(OperatingState::kReady);
         } else {

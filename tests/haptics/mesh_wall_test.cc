@@ -13,6 +13,7 @@
 #include "src/core/pose.h"
 #include "src/core/units.h"
 #include "test_util.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/support/alloc_counter.h"
 
 namespace robossis::haptics {
@@ -29,17 +30,22 @@ using geometry::LiveBoundaryOptions;
 class MeshWall : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "robossis_haptics_test_atlas";
-    atlas_ = std::make_shared<const geometry::BoundaryAtlas>(
-        geometry::BuildAtlas(Rsr(), robot::Sigma7Model::Default(), geometry::AtlasSpec::Coarse(Rsr()), dir));
+    dir_ = std::make_unique<robossis::testing::ScratchDir>("robossis_haptics_test_atlas");
+    atlas_ = std::make_shared<const geometry::BoundaryAtlas>(geometry::BuildAtlas(
+        Rsr(), robot::Sigma7Model::Default(), geometry::AtlasSpec::Coarse(Rsr()), dir_->path() / "atlas"));
   }
-  static void TearDownTestSuite() { atlas_.reset(); }
+  static void TearDownTestSuite() {
+    atlas_.reset();
+    dir_.reset();
+  }
+  static std::unique_ptr<robossis::testing::ScratchDir> dir_;
   static std::shared_ptr<const geometry::BoundaryAtlas> atlas_;
   MeshWallRenderer Make() {
     return MeshWallRenderer(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, 5, atlas_);
   }
 };
 std::shared_ptr<const geometry::BoundaryAtlas> MeshWall::atlas_;
+std::unique_ptr<robossis::testing::ScratchDir> MeshWall::dir_;
 
 TEST_F(MeshWall, ViscousOnlyInside) {
   MeshWallRenderer r = Make();

@@ -71,7 +71,7 @@ TEST(PanelWindow, AScriptedJogMovesTheSimulatedFollowerByTheRequestedAmount) {
                                 "0.8 set jog.timing duration\n"
                                 "0.8 set jog.duration_s 1\n"
                                 "1.0 click jog.go\n"
-                                "3.5 quit\n",
+                                "8.0 quit\n",  // the 1 s jog, with room for a loaded machine (wall-clock script)
                                 "--no-slice");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   ASSERT_FALSE(run.json.is_discarded()) << run.output;

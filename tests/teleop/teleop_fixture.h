@@ -16,6 +16,7 @@
 #include "src/core/config.h"
 #include "src/teleop/leader_config.h"
 #include "src/teleop/link.h"
+#include "tests/support/scratch_dir.h"
 
 namespace robossis::teleop::testing {
 
@@ -37,9 +38,9 @@ inline transfer::TransferConfig Transfer() { return transfer::TransferConfig::Fr
 inline std::filesystem::path FastHand() { return DefaultDataDir() / "teleop" / "fast_hand.csv"; }
 
 inline std::shared_ptr<const geometry::BoundaryAtlas> CoarseAtlas() {
+  static const robossis::testing::ScratchDir dir("robossis_teleop_test_atlas");  // outlives the atlas below
   static std::shared_ptr<const geometry::BoundaryAtlas> atlas = std::make_shared<const geometry::BoundaryAtlas>(
-      geometry::BuildAtlas(Rsr(), Sigma7(), geometry::AtlasSpec::Coarse(Rsr()),
-                           std::filesystem::temp_directory_path() / "robossis_teleop_test_atlas"));
+      geometry::BuildAtlas(Rsr(), Sigma7(), geometry::AtlasSpec::Coarse(Rsr()), dir.path() / "atlas"));
   return atlas;
 }
 

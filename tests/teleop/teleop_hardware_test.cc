@@ -47,8 +47,8 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   sdk.Get<void (*)(unsigned)>("fake_dhd_set_buttons")(1u);  // the operator holds the presence button
   FakeDhdState start{};
   sdk.Get<void (*)(FakeDhdState*)>("fake_dhd_get_state")(&start);
-  // The hand moves the handle 5 mm along the device's x and holds it there.
-  sdk.Get<void (*)(double, double, double)>("fake_dhd_set_hand_target")(start.p[0] + 0.005, start.p[1], start.p[2]);
+  // The hand lifts the handle 5 mm and holds it there: the ring rises, the three legs extend (~1000 steps each).
+  sdk.Get<void (*)(double, double, double)>("fake_dhd_set_hand_target")(start.p[0], start.p[1], start.p[2] + 0.005);
 
   TeleopRequest request;
   request.device = std::string("dhd:lib=") + FAKE_DHD_LIBRARY;
@@ -76,7 +76,7 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
     EXPECT_NEAR(counts, commanded, 1.0) << "motor " << m;
     moved_steps += std::abs(counts);
   }
-  EXPECT_GT(moved_steps, 100) << "the 5 mm hand motion did not reach the drives";
+  EXPECT_GT(moved_steps, 1000) << "the 5 mm hand motion did not reach the drives; summary: " << s.dump();
 }
 
 }  // namespace
