@@ -68,13 +68,13 @@ Episode MakeSlide(const robot::RsrModel& model, const std::string& label, const 
   const Eigen::Isometry3d home = model.geometry().X_FM_home;
   const double max = rotational ? DegToRad(60) : 0.3;
   // Boundary reach on a grid of directions, interpolated during the slide.
-  const int n = 49;
+  constexpr int n = 49;
   auto reach = std::make_shared<std::vector<double>>(n);
   for (int i = 0; i < n; ++i) {
     const double phi = sweep_rad * i / (n - 1);
     (*reach)[i] = ReachAlongAxis(model, home, std::cos(phi) * u + std::sin(phi) * w, rotational, max);
   }
-  auto reach_at = [reach, sweep_rad, n](double phi) {
+  auto reach_at = [reach, sweep_rad](double phi) {
     const double x = std::clamp(phi / sweep_rad, 0.0, 1.0) * (n - 1);
     const int i = std::min(n - 2, static_cast<int>(x));
     return (*reach)[i] + (x - i) * ((*reach)[i + 1] - (*reach)[i]);
