@@ -39,6 +39,43 @@ class FakeSdkControls {
   void* handle_;
 };
 
+// LinuxCNC's step counts are the commanded joint positions in steps (the eq. 17 count: position-scale is the
+// actuation config's steps per unit), within one step per motor. Returns the steps travelled, all motors.
+double ExpectCountsMatchTheCommand() {
+  double moved_steps = 0;
+  for (int m = 0; m < 6; ++m) {
+    const std::string g = "stepgen." + std::to_string(m) + ".";
+    const double counts = HalSession::GetNumber(g + "counts");
+    const double commanded = HalSession::GetNumber(g + "position-cmd") * HalSession::GetNumber(g + "position-scale");
+    EXPECT_NEAR(counts, commanded, 1.0) << "motor " << m;
+    moved_steps += std::abs(counts);
+  }
+  return moved_steps;
+}
+
+void ExpectASafeSession(const nlohmann::ordered_json& s) {
+  EXPECT_GT(s["follower_ticks"].get<double>(), 1000);
+  EXPECT_EQ(s["follower_limit_violations"].get<double>(), 0);
+  EXPECT_EQ(s["nonfinite_outputs"].get<double>(), 0);
+  EXPECT_NE(s["follower_transitions"].dump().find("enabled"), std::string::npos) << s["follower_transitions"].dump();
+}
+
+TEST(TeleopHardwareTest, AReplayedFastHandDrivesTheStepgenWithinTheLimits) {
+  HalSession hal(DefaultDataDir() / "hal" / "robossis-stepgen.hal");
+  TeleopRequest request;
+  request.device = "replay:" + testing::FastHand().string();
+  request.follower = "hal";
+  request.method = "proxy-safe";
+  request.real_clock = true;
+  request.duration_s = 4;
+  const TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), testing::Rsr(), testing::Sigma7());
+  const std::filesystem::path log = std::filesystem::path(::testing::TempDir()) / "teleop_hardware_replay.rlog";
+  const TeleopOutputs out = RunTeleop(request, setup, log);
+  ExpectASafeSession(out.summary);
+  ExpectCountsMatchTheCommand();  // where the replay left the robot (it moves mostly in x-y: the rotary joints)
+  EXPECT_GT(out.summary["max_follower_speed_mm_s"].get<double>(), 5.0) << "the replay did not move the robot";
+}
+
 TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   HalSession hal(DefaultDataDir() / "hal" / "robossis-stepgen.hal");
   FakeSdkControls sdk;
@@ -60,23 +97,9 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   const std::filesystem::path log = std::filesystem::path(::testing::TempDir()) / "teleop_hardware.rlog";
   const TeleopOutputs out = RunTeleop(request, setup, log);
 
-  const auto& s = out.summary;
-  EXPECT_GT(s["follower_ticks"].get<double>(), 1000);
-  EXPECT_EQ(s["follower_limit_violations"].get<double>(), 0);
-  EXPECT_EQ(s["nonfinite_outputs"].get<double>(), 0);
-  EXPECT_NE(s["follower_transitions"].dump().find("enabled"), std::string::npos) << s["follower_transitions"].dump();
-
-  // The drives moved, and LinuxCNC's step counts are the commanded joint positions in steps (the eq. 17 count:
-  // position-scale is the actuation config's steps per unit), within one step per motor.
-  double moved_steps = 0;
-  for (int m = 0; m < 6; ++m) {
-    const std::string g = "stepgen." + std::to_string(m) + ".";
-    const double counts = HalSession::GetNumber(g + "counts");
-    const double commanded = HalSession::GetNumber(g + "position-cmd") * HalSession::GetNumber(g + "position-scale");
-    EXPECT_NEAR(counts, commanded, 1.0) << "motor " << m;
-    moved_steps += std::abs(counts);
-  }
-  EXPECT_GT(moved_steps, 1000) << "the 5 mm hand motion did not reach the drives; summary: " << s.dump();
+  ExpectASafeSession(out.summary);
+  EXPECT_GT(ExpectCountsMatchTheCommand(), 1000)
+      << "the 5 mm hand motion did not reach the drives; summary: " << out.summary.dump();
 }
 
 }  // namespace
