@@ -180,6 +180,10 @@ TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, 
     drain(log);
   }
 
+  // The session is over: the device's forces off, the drives unpowered (they hold where they are).
+  device->EnableForces(false);
+  back_end->Disable();
+
   SessionEndRecord end;
   end.elapsed_s = run.elapsed_s;
   const rt::LoopStats& ls = run.stats[0];
