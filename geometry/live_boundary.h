@@ -33,7 +33,7 @@
 
 namespace robossis::geometry {
 
-// [paper §V; DESIGN.md] Clinical motion speeds of the fragment (the demonstration runs at 10 mm/s, 1 deg/s).
+// [paper §V] Clinical motion speeds of the fragment (the demonstration runs at 10 mm/s, 1 deg/s).
 inline constexpr double kClinicalLinearSpeedMps = 0.002;
 inline constexpr double kClinicalAngularSpeedRadps = 0.2 * kDegToRad;
 

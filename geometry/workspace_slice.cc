@@ -105,7 +105,7 @@ bool SliceFeasibility::operator()(const Eigen::Vector3d& q) const noexcept {
 }
 
 Eigen::AlignedBox3d DefaultSearchBox(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const SliceSpec& spec) {
-  // Assumptions: boxes that hold the default geometry's slices (DESIGN.md §4: about +/-130 mm in x, y, +/-70 mm
+  // Assumptions: boxes that hold the default geometry's slices (the default geometry's reach, README.md "The RSR model": about +/-130 mm in x, y, +/-70 mm
   // in z, +/-20 deg tilt, +/-39 deg twist); GenerateSlice grows them when a slice touches a face.
   switch (spec.kind) {
     case SliceKind::kRsrDexterous: {

@@ -1,7 +1,7 @@
 #pragma once
 // The Robossis Surgical Robot (RSR): an immutable model of its geometry and joint limits.
 //
-// Arm i (DESIGN.md §4): an active rotary joint theta_i whose axis u_i is radial in the fixed-ring plane, a passive
+// Arm i (README.md, "The RSR model"): an active rotary joint theta_i whose axis u_i is radial in the fixed-ring plane, a passive
 // revolute joint psi_i, the linear actuator d_i, and a spherical joint on the moving ring. In the arm frame
 // Rz(gamma_i) the leg direction is Rx(theta_i) · Ry(psi_i) · z, which reproduces the paper's eq. 7–8.
 
