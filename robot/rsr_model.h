@@ -22,7 +22,7 @@ struct RsrLimits {
   double stroke_min_m = 0.214;       // paper §III-B
   double stroke_max_m = 0.354;       // paper §III-B
   double spherical_cone_max_rad = 0; // paper: spherical joints +/-25 deg
-  double rotary_max_rad = 0;         // assumed (DESIGN.md §4): +/-30 deg
+  double rotary_max_rad = 0;         // assumed: +/-30 deg
 };
 
 struct RsrGeometry {

@@ -86,12 +86,12 @@ void WriteRobotSection(DemoContext& demo) {
     double minus, plus;
   };
   const Reach reach[] = {
-      {"x", "mm", "±130 (DESIGN.md §4)", -MToMm(translate(-ex)), MToMm(translate(ex))},
-      {"y", "mm", "±130 (DESIGN.md §4)", -MToMm(translate(-ey)), MToMm(translate(ey))},
-      {"z", "mm", "±70 (DESIGN.md §4)", -MToMm(translate(-ez)), MToMm(translate(ez))},
-      {"roll (tilt about x)", "deg", "±20 (DESIGN.md §4)", -RadToDeg(rotate(-ex)), RadToDeg(rotate(ex))},
-      {"pitch (tilt about y)", "deg", "±20 (DESIGN.md §4)", -RadToDeg(rotate(-ey)), RadToDeg(rotate(ey))},
-      {"yaw (twist about z)", "deg", "±39 (DESIGN.md §4)", -RadToDeg(rotate(-ez)), RadToDeg(rotate(ez))},
+      {"x", "mm", "±130 (assumed geometry)", -MToMm(translate(-ex)), MToMm(translate(ex))},
+      {"y", "mm", "±130 (assumed geometry)", -MToMm(translate(-ey)), MToMm(translate(ey))},
+      {"z", "mm", "±70 (assumed geometry)", -MToMm(translate(-ez)), MToMm(translate(ez))},
+      {"roll (tilt about x)", "deg", "±20 (assumed geometry)", -RadToDeg(rotate(-ex)), RadToDeg(rotate(ex))},
+      {"pitch (tilt about y)", "deg", "±20 (assumed geometry)", -RadToDeg(rotate(-ey)), RadToDeg(rotate(ey))},
+      {"yaw (twist about z)", "deg", "±39 (assumed geometry)", -RadToDeg(rotate(-ez)), RadToDeg(rotate(ez))},
   };
   std::string csv = "axis,unit,minus,plus\n";
   r << "\n### Limits and reach: paper vs this model\n\n| quantity | paper / design brief | this model |\n|---|---|---|\n"
@@ -109,7 +109,7 @@ void WriteRobotSection(DemoContext& demo) {
   Vector6d axial_load = Vector6d::Zero();
   axial_load[2] = -517.0;  // paper §I: 517 N traction, here along the robot axis
   const robot::RsrStaticsResult statics = robot::CalcActuatorEfforts(model, X0, axial_load);
-  r << "| linear actuator force for a 517 N axial load at home | ~172 N each (DESIGN.md §4) | "
+  r << "| linear actuator force for a 517 N axial load at home | ~172 N each (assumed geometry) | "
     << Fmt(statics.linear_force_n[0]) << ", " << Fmt(statics.linear_force_n[1]) << ", "
     << Fmt(statics.linear_force_n[2]) << " N |\n\n";
 

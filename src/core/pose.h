@@ -1,7 +1,7 @@
 #pragma once
 // Poses and orientation conventions shared by every module.
 //
-// Orientation is roll-pitch-yaw (DESIGN.md §4): R = Rz(yaw) · Ry(pitch) · Rx(roll), angles in radians.
+// Orientation is roll-pitch-yaw (the project's convention, README.md): R = Rz(yaw) · Ry(pitch) · Rx(roll), angles in radians.
 // Poses are Eigen::Isometry3d named X_AB (pose of frame B in frame A), as in Drake.
 
 #include <Eigen/Geometry>

@@ -91,7 +91,7 @@ TEST_F(AtlasTest, PoseQueryIsInsideAtHomeAndAllocatesNothing) {
   EXPECT_EQ(counter.count(), 0u);
   ASSERT_EQ(r.translation.status, QueryStatus::kOk);
   ASSERT_EQ(r.rotation.status, QueryStatus::kOk);
-  EXPECT_GT(r.translation.signed_distance, 0.03);   // home is deep inside (DESIGN.md §4: +/-70 mm in z)
+  EXPECT_GT(r.translation.signed_distance, 0.03);   // home is deep inside (the default geometry reaches about +/-70 mm in z)
   EXPECT_GT(r.rotation.signed_distance, DegToRad(10));
 }
 

@@ -16,7 +16,7 @@ class RsrKinematicsTest : public ::testing::Test {
   const RsrModel model_ = RsrModel::Default();
   const Eigen::Isometry3d home_ = model_.geometry().X_FM_home;
 
-  // A random pose around home, within (roughly) the reach of DESIGN.md §4.
+  // A random pose around home, within (roughly) the reach of the assumed geometry (README.md).
   Eigen::Isometry3d RandomPose(std::mt19937& gen) const {
     std::uniform_real_distribution<double> pos(-0.13, 0.13), z(-0.07, 0.07), ang(-DegToRad(25), DegToRad(25));
     Eigen::Isometry3d X = home_;
@@ -26,7 +26,7 @@ class RsrKinematicsTest : public ::testing::Test {
   }
 };
 
-// DESIGN.md §4: at home every arm is at mid-stroke, 284 mm, with theta = psi = 0.
+// The assumed geometry (README.md): at home every arm is at mid-stroke, 284 mm, with theta = psi = 0.
 TEST_F(RsrKinematicsTest, HomePoseIsMidStroke) {
   const RsrIkResult ik = CalcInverseKinematics(model_, home_);
   EXPECT_TRUE(ik.feasible);
@@ -112,7 +112,7 @@ TEST_F(RsrKinematicsTest, JacobianMatchesCentralFiniteDifferencesOfIk) {
   }
 }
 
-// DESIGN.md §4: at home a 517 N axial load is shared equally, 517/3 N per linear actuator, no rotary torque.
+// The assumed geometry (README.md): at home a 517 N axial load is shared equally, 517/3 N per linear actuator, no rotary torque.
 TEST_F(RsrKinematicsTest, AxialLoadAtHomeSharedEqually) {
   Vector6d wrench = Vector6d::Zero();
   wrench[2] = -517.0;

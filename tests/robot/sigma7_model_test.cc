@@ -73,7 +73,7 @@ TEST_F(Sigma7Test, UnreachablePointsAreReported) {
   EXPECT_FALSE(CalcDeltaInverseKinematics(model_, Eigen::Vector3d::Constant(std::nan(""))).reachable);
 }
 
-// Paper §III-C: wrist ranges 235 x 140 x 200 deg (yaw x pitch x roll, centred; DESIGN and config).
+// Paper §III-C: wrist ranges 235 x 140 x 200 deg (yaw x pitch x roll, centred; the config).
 TEST_F(Sigma7Test, WristRanges) {
   EXPECT_TRUE(WristWithinRange(model_, Eigen::Vector3d(DegToRad(99), DegToRad(69), DegToRad(117))));
   EXPECT_FALSE(WristWithinRange(model_, Eigen::Vector3d(DegToRad(101), 0, 0)));

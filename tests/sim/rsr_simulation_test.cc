@@ -78,7 +78,7 @@ Eigen::Isometry3d Distracted() {
 }
 
 TEST(RsrSimulationTest, AxialTractionSplitsEquallyOverTheLinearDrives) {
-  // DESIGN.md §4: at home a 517 N axial load gives ~172 N per linear actuator (517/3 = 172.3 N).
+  // The assumed geometry (README.md): at home a 517 N axial load gives ~172 N per linear actuator (517/3 = 172.3 N).
   SimOptions options;
   options.gravity = false;
   const MuscleTraction traction = Traction(Distracted(), 517, 0);
