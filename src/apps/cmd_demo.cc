@@ -52,7 +52,7 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
     using Section = void (*)(DemoContext&);
     const Section sections[] = {&WriteRobotSection,    &WriteWorkspaceSection, &WriteRenderingSection,
                                 &WriteTransferSection, &WriteSimSection,       &WriteTrackingSection,
-                                &WriteChainSection,    &WriteTeleopSection};
+                                &WriteChainSection,    &WriteTeleopSection,    &WriteLinkSection};
     for (const Section section : sections) section(demo);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

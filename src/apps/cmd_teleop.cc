@@ -1,119 +1,204 @@
-// `robossis teleop` (a leader-follower session: device → leader unit → link → follower unit → back end) and
-// `robossis replay` (a session log back into CSV, summary and figures). Parse, call src/teleop, print.
+// `robossis teleop` (a leader-follower session: device → leader unit → link → follower unit → back end),
+// `robossis leader` and `robossis follower` (the same units as two processes over the DDS link, on one machine or
+// two), and `robossis replay` (a session log back into CSV, summary and figures). Parse, call, print.
 
-#include <cmath>
+#include <atomic>
+#include <csignal>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "geometry/boundary_atlas.h"
 #include "src/apps/cmd_teleop.h"
-#include "src/apps/plotting.h"
+#include "src/apps/link_cli.h"
+#include "src/apps/teleop_options.h"
+#include "src/core/child_process.h"
 #include "src/core/files.h"
-#include "src/core/units.h"
-#include "src/teleop/teleop_session.h"
+#include "src/core/rt/clock.h"
+#include "src/link/dds_follower_link.h"
+#include "src/link/dds_leader_link.h"
+#include "src/link/two_process_session.h"
 
 namespace robossis::apps {
 
 namespace {
 
-void WriteOutputs(const StagedOutputDir& out, const teleop::TeleopOutputs& o, bool plots) {
-  out.Write("summary.json", o.summary.dump(2) + "\n");
-  out.Write("leader.csv", o.leader_csv);
-  out.Write("follower.csv", o.follower_csv);
-  out.Write("loop_periods.csv", o.periods_csv);
-  if (!plots) return;
-  const PlotResult r = RunPlotScript("teleop_session.py", {"--dir", out.staging().string(), "--out",
-                                                           out.Path("teleop.png").string()});
-  if (!r.ok) std::cerr << "robossis: warning: teleop.png not rendered: " << r.message << "\n";
+// SIGINT and SIGTERM end a leader or follower run cleanly (forces off, drives disabled, the log complete).
+std::atomic<bool> g_stop{false};
+void OnStopSignal(int) { g_stop.store(true); }
+void StopOnSignals() {
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
 }
 
-}  // namespace
+void PrintOutcome(const char* what, const nlohmann::ordered_json& s, const std::string& out) {
+  std::cout << what << ": " << s["leader_ticks"] << " leader and " << s["follower_ticks"] << " follower ticks, "
+            << s["follower_limit_violations"] << " limit violations, max force " << s["max_force_n"] << " N → "
+            << out << "\n";
+}
 
-void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
-  struct Options {
-    std::string device = "sim";
-    std::string method;  // default: haptics.yaml hardware_default_method
-    std::string follower = "sim";
-    double rate_hz = 1000;
-    double duration_s = 10;
+// The options `robossis teleop --link dds` hands on to the two processes (the caller checked them).
+std::vector<std::string> LinkArgs(const link::LinkOptions& l) {
+  std::vector<std::string> a;
+  if (l.insecure) a.push_back("--insecure");
+  else a.insert(a.end(), {"--keys", l.keys_dir.string()});
+  a.insert(a.end(), {"--domain", std::to_string(l.domain_id), "--interface", l.network_interface});
+  for (const std::string& p : l.peers) a.insert(a.end(), {"--peer", p});
+  return a;
+}
+
+std::vector<std::string> CapArgs(const TeleopCliOptions& o) {
+  std::vector<std::string> a;
+  if (o.max_speed_mm_s) a.insert(a.end(), {"--max-speed-mm-s", std::to_string(*o.max_speed_mm_s)});
+  if (o.max_angular_speed_deg_s) {
+    a.insert(a.end(), {"--max-angular-speed-deg-s", std::to_string(*o.max_angular_speed_deg_s)});
+  }
+  return a;
+}
+
+void RegisterTeleop(CLI::App& app, const AppContext& context) {
+  struct Options : TeleopCliOptions {
     std::string clock = "simulated";
-    std::string out;
-    std::string atlas;
-    std::optional<double> max_speed_mm_s;
-    std::optional<double> max_angular_speed_deg_s;
-    bool no_plots = false;
-    bool json = false;
+    std::string link = "inprocess";
+    link::LinkOptions link_options;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
-      "teleop", "Teleoperation on one machine: the haptic device through the walls into the follower, each unit on "
-                "its own loop, every tick in a session log");
-  cmd->add_option("--device", o->device,
-                  "sim | replay:FILE.csv (t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg) | dhd[:lib=PATH,serial=N,index=N,"
-                  "hold=1,window_ms=MS] (a sigma.7 through the Force Dimension SDK)");
-  cmd->add_option("--method", o->method, "Rendering method (render-compare's list; default: haptics.yaml hardware_default_method)");
-  cmd->add_option("--follower", o->follower,
-                  "sim (Bullet) | recorder (pulse recorder) | hal (step/direction drives through LinuxCNC HAL, hal.yaml)");
-  cmd->add_option("--rate-hz", o->rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)");
-  cmd->add_option("--duration-s", o->duration_s, "Run time (a replay ends 0.5 s after its last sample)");
-  cmd->add_option("--clock", o->clock, "real (threads on wall-clock deadlines) | simulated (deterministic, fast)")
-      ->check(CLI::IsMember({"real", "simulated"}));
-  cmd->add_option("--out", o->out, "Output folder (written atomically: complete or untouched)")->required();
-  cmd->add_option("--atlas", o->atlas, "Boundary atlas folder for mesh/mesh-live (default: build the coarse one)");
-  cmd->add_option("--max-speed-mm-s", o->max_speed_mm_s, "Linear speed cap (default: transfer.yaml, 10 mm/s)");
-  cmd->add_option("--max-angular-speed-deg-s", o->max_angular_speed_deg_s,
-                  "Angular speed cap (default: transfer.yaml, 1 deg/s)");
-  cmd->add_flag("--no-plots", o->no_plots, "Skip the figure");
-  cmd->add_flag("--json", o->json, "Print summary.json to stdout");
-  cmd->callback([o, &context] {
-    const robot::RsrModel rsr = context.LoadRsr();
-    const robot::Sigma7Model sigma7 = context.LoadSigma7();
-    teleop::TeleopSetup setup = teleop::TeleopSetup::Load(context.data_dir, rsr, sigma7);
-    if (o->max_speed_mm_s) {
-      if (!(*o->max_speed_mm_s > 0 && std::isfinite(*o->max_speed_mm_s))) {
-        throw std::invalid_argument("--max-speed-mm-s: expected a positive finite speed, got " +
-                                    std::to_string(*o->max_speed_mm_s));
+      "teleop", "Teleoperation: the haptic device through the walls into the follower, each unit on its own loop, "
+                "every tick in a session log; in one process, or as two processes over DDS (--link dds)");
+  AddTeleopOptions(*cmd, *o, TeleopUnits::kBoth);
+  CLI::Option* clock_option = cmd->add_option("--clock", o->clock, "real (threads on wall-clock deadlines) | simulated (deterministic, fast)")
+      ->check(CLI::IsMember({"real", "simulated"}))
+      ->capture_default_str();
+  cmd->add_option("--link", o->link,
+                  "inprocess (one process) | dds (`robossis follower` and `robossis leader` as two processes over "
+                  "Cyclone DDS, real clock)")
+      ->check(CLI::IsMember({"inprocess", "dds"}))
+      ->capture_default_str();
+  AddLinkOptions(*cmd, o->link_options);
+  cmd->callback([o, clock_option, &context] {
+    if (o->link == "dds" && clock_option->count() > 0 && o->clock != "real") {
+      throw std::invalid_argument("--clock " + o->clock + ": --link dds runs two processes on wall-clock time; "
+                                  "use --clock real or leave --clock out");
+    }
+    StagedOutputDir out(o->out, context.force);
+    if (o->link == "dds") {
+      CheckLinkOptions(o->link_options, std::cerr);
+      TeleopInputs inputs(context, *o, true);  // checks the options before the processes start
+      link::TwoProcessRequest r;
+      r.program = SelfExecutable();
+      r.global_args = {"--data-dir", context.data_dir.string()};
+      r.link_args = LinkArgs(o->link_options);
+      r.leader_args = {"--device", o->device, "--method", inputs.request.method, "--rate-hz",
+                       std::to_string(o->rate_hz)};
+      if (!o->atlas.empty()) r.leader_args.insert(r.leader_args.end(), {"--atlas", o->atlas});
+      r.follower_args = {"--follower", o->follower};
+      for (auto* args : {&r.leader_args, &r.follower_args}) {
+        const auto caps = CapArgs(*o);
+        args->insert(args->end(), caps.begin(), caps.end());
       }
-      setup.transfer.caps.max_linear_speed_m_s = MmToM(*o->max_speed_mm_s);
+      r.duration_s = o->duration_s;
+      r.out_dir = out.staging();
+      const link::TwoProcessResult result = link::RunTwoProcessSession(r);
+      nlohmann::ordered_json summary = {{"link", "dds"},
+                                        {"secure", !o->link_options.insecure},
+                                        {"leader", result.leader_summary},
+                                        {"follower", result.follower_summary}};
+      out.Write("summary.json", summary.dump(2) + "\n");
+      out.Commit();
+      if (o->json) PrintJson(summary);
+      else std::cout << "teleop --link dds: leader " << result.leader_summary["leader_ticks"] << " ticks, follower "
+                     << result.follower_summary["follower_ticks"] << " ticks, "
+                     << result.follower_summary["setpoints_accepted"] << " set-points accepted, "
+                     << result.follower_summary["follower_limit_violations"] << " limit violations → " << o->out
+                     << "\n";
+      return;
     }
-    if (o->max_angular_speed_deg_s) {
-      if (!(*o->max_angular_speed_deg_s > 0 && std::isfinite(*o->max_angular_speed_deg_s))) {
-        throw std::invalid_argument("--max-angular-speed-deg-s: expected a positive finite speed, got " +
-                                    std::to_string(*o->max_angular_speed_deg_s));
-      }
-      setup.transfer.caps.max_angular_speed_rad_s = DegToRad(*o->max_angular_speed_deg_s);
-    }
-    setup.transfer.Validate();
-    setup.follower.setpoint.caps = setup.transfer.caps;  // the follower checks the caps the leader applies
-    teleop::TeleopRequest request;
-    request.device = o->device;
-    request.method = o->method.empty() ? setup.haptics.hardware_default_method : o->method;
-    request.follower = o->follower;
-    request.rate_hz = o->rate_hz;
-    request.duration_s = o->duration_s;
-    request.real_clock = o->clock == "real";
-    StagedOutputDir out(o->out);
-    if (request.method.rfind("mesh", 0) == 0) {
-      request.atlas = std::make_shared<const geometry::BoundaryAtlas>(
-          o->atlas.empty() ? geometry::BuildAtlas(rsr, sigma7, geometry::AtlasSpec::Coarse(rsr), out.Path("atlas"))
-                           : geometry::BoundaryAtlas::Load(o->atlas));
-    }
-    const teleop::TeleopOutputs outputs = teleop::RunTeleop(request, setup, out.Path("session.rlog"));
+    TeleopInputs inputs(context, *o, o->clock == "real");
+    inputs.LoadAtlasIfNeeded(*o, out.staging());
+    const teleop::TeleopOutputs outputs = teleop::RunTeleop(inputs.request, inputs.setup, out.Path("session.rlog"));
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    WriteOutputs(out, outputs, !o->no_plots);
+    WriteTeleopOutputs(out, outputs, TeleopUnits::kBoth, !o->no_plots);
     out.Commit();
-    if (o->json) {
-      PrintJson(outputs.summary);
-    } else {
-      std::cout << "teleop: " << outputs.summary["leader_ticks"] << " leader and " << outputs.summary["follower_ticks"]
-                << " follower ticks, " << outputs.summary["follower_limit_violations"]
-                << " limit violations, max force " << outputs.summary["max_force_n"] << " N → " << o->out << "\n";
-    }
+    if (o->json) PrintJson(outputs.summary);
+    else PrintOutcome("teleop", outputs.summary, o->out);
   });
+}
 
+void RegisterLeader(CLI::App& app, const AppContext& context) {
+  struct Options : TeleopCliOptions {
+    link::LinkOptions link_options;
+    double wait_for_follower_s = 60;
+  };
+  auto o = std::make_shared<Options>();
+  o->link_options.role = link::Role::kLeader;
+  CLI::App* cmd = app.add_subcommand(
+      "leader", "The leader unit alone (PC 1 of Fig. 2): the haptic device, the walls and the motion transfer, "
+                "sending set-points to `robossis follower` over DDS; real time");
+  AddTeleopOptions(*cmd, *o, TeleopUnits::kLeader);
+  AddLinkOptions(*cmd, o->link_options);
+  cmd->add_option("--wait-for-follower-s", o->wait_for_follower_s,
+                  "How long to wait for the follower to be heard before the loop starts")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  cmd->callback([o, &context] {
+    CheckLinkOptions(o->link_options, std::cerr);
+    TeleopInputs inputs(context, *o, true);
+    StagedOutputDir out(o->out, context.force);
+    inputs.LoadAtlasIfNeeded(*o, out.staging());
+    link::DdsLeaderLink link(o->link_options);
+    if (!link.WaitForFollower(o->wait_for_follower_s)) {
+      throw std::runtime_error("no follower heard on DDS domain " + std::to_string(o->link_options.domain_id) +
+                               " within --wait-for-follower-s " + std::to_string(o->wait_for_follower_s) +
+                               " s (is `robossis follower` running with the same --domain, --peer and keys?)");
+    }
+    StopOnSignals();
+    teleop::TeleopOutputs outputs =
+        teleop::RunLeader(inputs.request, inputs.setup, link, out.Path("session.rlog"), &g_stop);
+    outputs.summary["link"] = link::ToJson(link.Statistics());
+    for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
+    WriteTeleopOutputs(out, outputs, TeleopUnits::kLeader, false);
+    out.Commit();
+    if (o->json) PrintJson(outputs.summary);
+    else PrintOutcome("leader", outputs.summary, o->out);
+  });
+}
+
+void RegisterFollower(CLI::App& app, const AppContext& context) {
+  struct Options : TeleopCliOptions {
+    link::LinkOptions link_options;
+    bool no_enable = false;
+  };
+  auto o = std::make_shared<Options>();
+  o->duration_s = 3600;
+  o->link_options.role = link::Role::kFollower;
+  CLI::App* cmd = app.add_subcommand(
+      "follower", "The follower unit alone (PC 2 of Fig. 2): validates the leader's set-points from DDS and runs the "
+                  "10 kHz actuation into its back end until stopped (Ctrl-C) or --duration-s; real time");
+  AddTeleopOptions(*cmd, *o, TeleopUnits::kFollower);
+  AddLinkOptions(*cmd, o->link_options);
+  cmd->add_flag("--no-enable", o->no_enable,
+                "Start disabled (default: enable at start: home, then follow once a leader with presence is heard)");
+  cmd->callback([o, &context] {
+    CheckLinkOptions(o->link_options, std::cerr);
+    TeleopInputs inputs(context, *o, true);
+    inputs.request.enable_at_start = !o->no_enable;
+    StagedOutputDir out(o->out, context.force);
+    rt::MonotonicClock clock;
+    link::DdsFollowerLink link(o->link_options, clock);
+    StopOnSignals();
+    teleop::TeleopOutputs outputs =
+        teleop::RunFollower(inputs.request, inputs.setup, link, clock, out.Path("session.rlog"), &g_stop);
+    outputs.summary["link"] = link::ToJson(link.Statistics());
+    for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
+    WriteTeleopOutputs(out, outputs, TeleopUnits::kFollower, false);
+    out.Commit();
+    if (o->json) PrintJson(outputs.summary);
+    else PrintOutcome("follower", outputs.summary, o->out);
+  });
+}
+
+void RegisterReplay(CLI::App& app, const AppContext& context) {
   struct ReplayOptions {
     std::string log;
     std::string out;
@@ -126,15 +211,28 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   replay->add_option("--out", r->out, "Output folder (written atomically)")->required();
   replay->add_flag("--no-plots", r->no_plots, "Skip the figure");
   replay->add_flag("--json", r->json, "Print summary.json to stdout");
-  replay->callback([r] {
+  replay->callback([r, &context] {
     const teleop::TeleopOutputs outputs = teleop::ReplaySessionLog(r->log);
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    StagedOutputDir out(r->out);
-    WriteOutputs(out, outputs, !r->no_plots);
+    StagedOutputDir out(r->out, context.force);
+    const std::string units = outputs.summary["units"];
+    WriteTeleopOutputs(out, outputs,
+                       units == "leader" ? TeleopUnits::kLeader
+                                         : units == "follower" ? TeleopUnits::kFollower : TeleopUnits::kBoth,
+                       !r->no_plots);
     out.Commit();
     if (r->json) PrintJson(outputs.summary);
     else std::cout << "replay: " << r->log << " → " << r->out << "\n";
   });
+}
+
+}  // namespace
+
+void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
+  RegisterTeleop(app, context);
+  RegisterLeader(app, context);
+  RegisterFollower(app, context);
+  RegisterReplay(app, context);
 }
 
 }  // namespace robossis::apps

@@ -36,6 +36,7 @@ void WriteRenderingSection(DemoContext& demo);  // ## 3. Haptic rendering (hapti
 void WriteTransferSection(DemoContext& demo);   // ## 4. Motion transfer and actuation (haptics/transfer, robot/actuation)
 void WriteSimSection(DemoContext& demo);        // ## 5. Simulation (robot/sim)
 void WriteTrackingSection(DemoContext& demo);   // ## 6. Tracking accuracy (calibration/)
+void WriteLinkSection(DemoContext& demo);       // ## 9. The link: two processes over secured DDS (src/link)
 void WriteChainSection(DemoContext& demo);      // ## 7. The whole follower chain: transfer -> actuation -> Bullet
 
 }  // namespace robossis::apps

@@ -1,6 +1,8 @@
 #include "src/link/dds_leader_link.h"
 
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 
 #include "robossis_link.h"
 #include "src/link/wire_convert.h"
@@ -52,6 +54,16 @@ bool DdsLeaderLink::TakeFollowerStatus(teleop::FollowerStatusMessage& message) n
   if (!status_.Read(message)) return false;
   status_version_taken_ = version;
   return true;
+}
+
+bool DdsLeaderLink::WaitForFollower(double timeout_s) const {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < until) {
+    const LeaderLinkStatistics s = Statistics();
+    if ((s.followers_matched > 0 || options_.role == Role::kPanel) && s.state_received > 0) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
 }
 
 LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {

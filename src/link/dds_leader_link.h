@@ -31,6 +31,9 @@ class DdsLeaderLink final : public teleop::LeaderLink {
   bool SendCommand(const teleop::StateCommandMessage& message) noexcept override;
 
   LeaderLinkStatistics Statistics() const noexcept;
+  // Not real-time: waits until a follower's set-point reader is matched and its operating state has arrived (so that
+  // the first set-points and commands are not sent into the void). False after `timeout_s`.
+  bool WaitForFollower(double timeout_s) const;
 
  private:
   void ReceiveLoop();

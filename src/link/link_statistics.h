@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cstdint>
 
+#include <nlohmann/json.hpp>
+
 namespace robossis::link {
 
 struct FollowerLinkStatistics {
@@ -28,5 +30,9 @@ struct LeaderLinkStatistics {
   std::uint64_t state_received = 0;         // operating_state samples
   std::uint32_t followers_matched = 0;      // set-point readers matched now
 };
+
+// The counters as the units' summary.json reports them (key "link").
+nlohmann::ordered_json ToJson(const FollowerLinkStatistics& s);
+nlohmann::ordered_json ToJson(const LeaderLinkStatistics& s);
 
 }  // namespace robossis::link

@@ -45,6 +45,7 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   c.setpoint.max_linear_accel_m_s2 = MmToM(sp.PositiveNumber("max_linear_accel_mm_s2"));
   c.setpoint.max_angular_accel_rad_s2 = DegToRad(sp.PositiveNumber("max_angular_accel_deg_s2"));
   c.setpoint.cap_tolerance = sp.NumberInRange("cap_tolerance", 0.0, 0.5);
+  c.setpoint.stamp_jitter_s = 1e-3 * sp.NumberInRange("stamp_jitter_ms", 0.0, 10.0);
   const ConfigNode wd = root.Child("watchdog");
   c.watchdog.hold_after_s = 1e-3 * wd.PositiveNumber("hold_after_ms");
   c.watchdog.leader_lost_after_s = 1e-3 * wd.PositiveNumber("leader_lost_after_ms");

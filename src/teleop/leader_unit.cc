@@ -257,6 +257,7 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   FollowerStatusMessage status;
   if (link_.TakeFollowerStatus(status)) {
     follower_ = status;
+    statuses_received_.fetch_add(1, std::memory_order_relaxed);
   }
 
   // The record.

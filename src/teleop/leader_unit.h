@@ -115,6 +115,10 @@ class LeaderUnit final : public rt::PeriodicTask {
   // Read from the loop's thread, or once the loop stopped.
   const LeaderCounters& counters() const noexcept { return counters_; }
   LeaderState state() const noexcept { return state_; }
+  // Any thread: follower status messages taken so far (0 until the follower has been heard from).
+  std::uint64_t follower_statuses_received() const noexcept {
+    return statuses_received_.load(std::memory_order_relaxed);
+  }
   int transfer_every() const noexcept { return transfer_every_; }
 
  private:
@@ -148,6 +152,7 @@ class LeaderUnit final : public rt::PeriodicTask {
   std::uint64_t sequence_ = 0;
   std::uint8_t last_flags_ = 0;
   FollowerStatusMessage follower_;  // the last status the follower sent
+  std::atomic<std::uint64_t> statuses_received_{0};
   LeaderCounters counters_;
   LeaderTickRecord record_;
   rt::SpscQueue<LeaderTickRecord> records_;

@@ -88,6 +88,9 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
+  if (r.took_setpoint && r.setpoint_verdict != SetPointVerdict::kAccepted) {
+    ++rejected_by_verdict_[ToString(r.setpoint_verdict)];
+  }
   min_margin_ = std::min(min_margin_, r.meas_min_margin);
   if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
   const Eigen::Isometry3d meas = Pose(r.meas_p_FM, r.meas_q_FM);
@@ -187,6 +190,7 @@ nlohmann::ordered_json SessionSummary::Summary() const {
                                                               static_cast<double>(end_.follower_loop_ticks) : 0.0;
   j["setpoints_accepted"] = end_.setpoints_accepted;
   j["setpoints_rejected"] = end_.setpoints_rejected;
+  j["setpoints_rejected_by_verdict"] = rejected_by_verdict_;
   j["setpoints_stopped_at_boundary"] = stopped_at_boundary_;
   j["setpoints_ik_rejected"] = end_.ik_rejected;
   j["device_failures"] = end_.device_failures;

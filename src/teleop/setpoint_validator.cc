@@ -37,6 +37,10 @@ void SetPointLimits::Validate() const {
   require(std::isfinite(max_age_s) && max_age_s > 0 && max_age_s <= 1.0, "max_age_s", max_age_s, "0 < age <= 1 s");
   require(std::isfinite(cap_tolerance) && cap_tolerance >= 0 && cap_tolerance <= 0.5, "cap_tolerance",
           cap_tolerance, "0..0.5");
+  require(std::isfinite(setpoint_period_s) && setpoint_period_s > 0 && setpoint_period_s <= 0.1, "setpoint_period_s",
+          setpoint_period_s, "0 < T <= 0.1 s");
+  require(std::isfinite(stamp_jitter_s) && stamp_jitter_s >= 0 && stamp_jitter_s <= 0.01, "stamp_jitter_s",
+          stamp_jitter_s, "0..10 ms");
 }
 
 Vector6d CapStepToSpeeds(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept {
@@ -70,7 +74,7 @@ std::uint64_t SetPointValidator::rejected() const noexcept {
   return n;
 }
 
-SetPointVerdict SetPointValidator::Check(const SetPointSample& s) noexcept {
+SetPointVerdict SetPointValidator::Check(const SetPointSample& s, double interval_s) noexcept {
   if (!std::isfinite(s.time_s) || !s.X_FM.matrix().allFinite() || !s.twist_F.allFinite()) {
     return Count(SetPointVerdict::kNotFinite);
   }
@@ -87,7 +91,7 @@ SetPointVerdict SetPointValidator::Check(const SetPointSample& s) noexcept {
     return Count(SetPointVerdict::kTooFast);
   }
   if (has_reference_) {
-    const double dt = s.time_s - reference_.time_s;
+    const double dt = interval_s > 0 ? interval_s : s.time_s - reference_.time_s;
     // The pose change since the previous set-point, whatever the twist claims.
     const double dp = (s.X_FM.translation() - reference_.X_FM.translation()).norm();
     const double dr = RotationAngleBetween(reference_.X_FM.linear(), s.X_FM.linear());
@@ -120,7 +124,12 @@ SetPointVerdict SetPointValidator::CheckMessage(const SetPointMessage& m, double
   }
   if (has_sequence_ && m.leader_session != session_) Reset();  // a restarted leader re-anchors
   sample = SampleFromMessage(m);
-  const SetPointVerdict v = Check(sample);
+  double interval_s = 0;
+  if (has_reference_ && has_sequence_ && m.leader_session == session_) {
+    const double by_sequence = static_cast<double>(m.sequence - sequence_) * limits_.setpoint_period_s;
+    interval_s = std::min(by_sequence, sample.time_s - reference_.time_s + limits_.stamp_jitter_s);
+  }
+  const SetPointVerdict v = Check(sample, interval_s);
   if (v == SetPointVerdict::kAccepted) {
     has_sequence_ = true;
     session_ = m.leader_session;

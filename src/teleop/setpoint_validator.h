@@ -26,6 +26,12 @@ struct SetPointLimits {
   double max_age_s = 0.030;                // [issue: 30 ms] arrival → use
   // Relative slack on the caps for rounding and for the finite difference of two set-points ([assumed]).
   double cap_tolerance = 0.02;
+  // The leader's set-point period (1 / transfer.yaml `rates.transfer_rate_hz`): one sequence step is one period of
+  // the transfer's motion, however late or early the leader sampled its device.
+  double setpoint_period_s = 1e-3;
+  // How much shorter than the sequence says the stamps' interval may be ([assumed], follower.yaml): a leader tick
+  // that runs late and the next one on time bring two device samples closer than one period.
+  double stamp_jitter_s = 1e-3;
   // Throws std::invalid_argument naming the field.
   void Validate() const;
 };
@@ -61,12 +67,14 @@ class SetPointValidator {
   // Validates the limits (throws std::invalid_argument). Keeps a reference to the model.
   SetPointValidator(const robot::RsrModel& model, const SetPointLimits& limits);
 
-  // Checks one set-point against the workspace and the caps, and against the previous accepted one. An accepted
-  // set-point becomes the reference for the next.
-  SetPointVerdict Check(const SetPointSample& sample) noexcept;
+  // Checks one set-point against the workspace and the caps, and against the previous accepted one over
+  // `interval_s` (<= 0: the two samples' time difference). An accepted set-point becomes the reference for the next.
+  SetPointVerdict Check(const SetPointSample& sample, double interval_s = 0) noexcept;
 
   // A link message: the field checks, freshness (now_s - arrival_s <= max_age_s) and order (sequence within a
-  // leader session; a new session starts a new reference), then Check(). `sample` receives the converted set-point.
+  // leader session; a new session starts a new reference), then Check() over the interval since the reference:
+  // the sequence steps times the set-point period, but no longer than the stamps' interval plus stamp_jitter_s (so
+  // neither a forged stamp nor a forged sequence buys a larger step). `sample` receives the converted set-point.
   SetPointVerdict CheckMessage(const SetPointMessage& message, double arrival_s, double now_s,
                                SetPointSample& sample) noexcept;
 

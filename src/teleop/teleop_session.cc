@@ -1,6 +1,7 @@
 #include "src/teleop/teleop_session.h"
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -14,6 +15,7 @@
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
+#include "src/teleop/local_command_link.h"
 #include "src/teleop/session_summary.h"
 
 namespace robossis::teleop {
@@ -32,6 +34,7 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.follower = FollowerConfig::FromYaml(config / "follower.yaml", s.transfer.caps);
   s.leader = LeaderConfig::FromYaml(config / "leader.yaml");
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
+  s.follower.setpoint.setpoint_period_s = 1.0 / s.transfer.rates.transfer_rate_hz;  // one set-point per transfer tick
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
   s.config_dir = config;
   return s;
@@ -56,93 +59,125 @@ SummaryOptions OptionsFromMeta(const nlohmann::json& meta) {
   return o;
 }
 
-void CheckRequest(const TeleopRequest& r) {
-  const auto methods = haptics::KnownMethods();
-  if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) {
-    std::string known;
-    for (const auto& m : methods) known += (known.empty() ? "" : ", ") + m;
-    throw std::invalid_argument("--method: unknown method '" + r.method + "'; known: " + known);
+enum class Units { kBoth, kLeader, kFollower };
+
+void CheckRequest(const TeleopRequest& r, Units units) {
+  if (units != Units::kFollower) {
+    const auto methods = haptics::KnownMethods();
+    if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) {
+      std::string known;
+      for (const auto& m : methods) known += (known.empty() ? "" : ", ") + m;
+      throw std::invalid_argument("--method: unknown method '" + r.method + "'; known: " + known);
+    }
   }
-  const auto followers = KnownFollowers();
-  if (std::find(followers.begin(), followers.end(), r.follower) == followers.end()) {
-    throw std::invalid_argument("--follower: unknown follower '" + r.follower + "'; known: sim, recorder, hal");
+  if (units != Units::kLeader) {
+    const auto followers = KnownFollowers();
+    if (std::find(followers.begin(), followers.end(), r.follower) == followers.end()) {
+      throw std::invalid_argument("--follower: unknown follower '" + r.follower + "'; known: sim, recorder, hal");
+    }
   }
   if (!(r.duration_s > 0 && r.duration_s <= 3600)) {
     throw std::invalid_argument("--duration-s: expected 0 < N <= 3600 s");
   }
 }
 
-}  // namespace
+// The leader's side of a session: the device, the renderer and the leader unit over `link`.
+struct LeaderSide {
+  std::unique_ptr<haptics::HapticDevice> device;
+  std::unique_ptr<haptics::HapticRenderer> renderer;
+  std::unique_ptr<LeaderUnit> unit;
+};
 
-TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, const std::filesystem::path& log_file) {
-  CheckRequest(request);
-  const robot::RsrModel& rsr = *setup.rsr;
-  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
-  LeaderConfig leader_config = setup.leader;
-  leader_config.rate_hz = request.rate_hz;
+LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup, LeaderLink& link) {
+  LeaderConfig config = setup.leader;
+  config.rate_hz = request.rate_hz;
   try {
-    leader_config.Validate();
+    config.Validate();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("--rate-hz: ") + e.what());
   }
-  const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
-
-  rt::SimulatedClock sim_clock;
-  rt::MonotonicClock mono_clock;
-  const rt::Clock& clock = request.real_clock ? static_cast<const rt::Clock&>(mono_clock) : sim_clock;
-  InProcessLink link(clock);
-
-  std::unique_ptr<robot::Follower> back_end;
-  if (request.follower == "sim") {
-    sim::SimOptions options;
-    options.with_bone = false;
-    options.with_traction = false;
-    back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
-  } else if (request.follower == "hal") {
-    back_end = drivers::MakeHalFollower(rsr, setup.config_dir);
-  } else {
-    const auto n = static_cast<std::size_t>(std::min(request.duration_s * follower_rate_hz + 1000.0, 4.0e6));
-    back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
-  }
-  FollowerUnit follower(rsr, setup.actuation, setup.follower, *back_end, link, clock);
-  FollowerTask follower_task(follower);
-
-  std::unique_ptr<haptics::HapticDevice> device = haptics::MakeDevice(
-      request.device, *setup.sigma7, setup.haptics, leader_config.device, [&] {
-        haptics::DeviceScriptOptions o = leader_config.sim_script;
-        o.replay_scale = setup.transfer.mapping.translation_scale;
-        return o;
-      }());
-  if (device->EnableForces(true) != haptics::DeviceStatus::kOk) {
+  const robot::RsrModel& rsr = *setup.rsr;
+  LeaderSide side;
+  haptics::DeviceScriptOptions script = config.sim_script;
+  script.replay_scale = setup.transfer.mapping.translation_scale;
+  side.device = haptics::MakeDevice(request.device, *setup.sigma7, setup.haptics, config.device, script);
+  if (side.device->EnableForces(true) != haptics::DeviceStatus::kOk) {
     throw std::runtime_error("--device " + request.device + ": the device refused to enable its forces");
   }
-  std::unique_ptr<haptics::HapticRenderer> renderer = haptics::MakeRenderer(
+  side.renderer = haptics::MakeRenderer(
       request.method, setup.haptics, rsr, haptics::HcToRsrMap{}, request.rate_hz, request.atlas,
       request.real_clock ? haptics::BackgroundWork::kThread : haptics::BackgroundWork::kSimulated);
   std::random_device entropy;
   const std::uint64_t session = (static_cast<std::uint64_t>(entropy()) << 32) | entropy();
-  LeaderUnit leader(leader_config, setup.transfer, rsr, *device, *renderer, link, home, session);
+  side.unit = std::make_unique<LeaderUnit>(config, setup.transfer, rsr, *side.device, *side.renderer, link,
+                                           rsr.geometry().X_FM_home, session);
+  return side;
+}
 
-  // The operator enables the follower (homing, then ready; it follows once the leader has presence).
+// The follower's side: the back end and the follower unit over `link`, stamped by `clock`.
+struct FollowerSide {
+  std::unique_ptr<robot::Follower> back_end;
+  std::unique_ptr<FollowerUnit> unit;
+  std::unique_ptr<FollowerTask> task;
+};
+
+FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
+                              const rt::Clock& clock) {
+  const robot::RsrModel& rsr = *setup.rsr;
+  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
+  FollowerSide side;
+  if (request.follower == "sim") {
+    sim::SimOptions options;
+    options.with_bone = false;
+    options.with_traction = false;
+    side.back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+  } else if (request.follower == "hal") {
+    side.back_end = drivers::MakeHalFollower(rsr, setup.config_dir);
+  } else {
+    const double rate_hz = setup.transfer.rates.actuation_rate_hz;
+    const auto n = static_cast<std::size_t>(std::min(request.duration_s * rate_hz + 1000.0, 4.0e6));
+    side.back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
+  }
+  side.unit = std::make_unique<FollowerUnit>(rsr, setup.actuation, setup.follower, *side.back_end, link, clock);
+  side.task = std::make_unique<FollowerTask>(*side.unit);
+  return side;
+}
+
+StateCommandMessage EnableCommand() {
   StateCommandMessage enable;
   enable.command = StateCommand::kEnable;
   enable.sequence = 1;
-  link.operator_commands().Send(enable);
+  return enable;
+}
 
+// The clock a run steps (simulated) or sleeps on (real): exactly one is set.
+struct RunClock {
+  rt::SimulatedClock* simulated = nullptr;
+  const rt::MonotonicClock* real = nullptr;
+};
+
+// Runs the sides given (either may be null, not both) on their loops, records every tick in `log_file`, and
+// computes the outputs. `background` runs on the calling thread beside the flight recorder's drain.
+TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, Units units, LeaderSide* leader,
+                       FollowerSide* follower, RunClock clock, const std::filesystem::path& log_file,
+                       const std::atomic<bool>* stop, const std::function<void(double)>& background) {
+  const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
+  const char* unit_names[] = {"both", "leader", "follower"};
   nlohmann::json meta = {{"device", request.device},     {"method", request.method},
                          {"follower", request.follower}, {"rate_hz", request.rate_hz},
                          {"follower_rate_hz", follower_rate_hz}, {"duration_s", request.duration_s},
-                         {"clock", request.real_clock ? "real" : "simulated"}};
-  SessionLogWriter log(log_file, meta, {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()});
+                         {"clock", clock.real ? "real" : "simulated"}, {"units", unit_names[static_cast<int>(units)]}};
+  std::vector<StreamSpec> streams = {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()};
+  SessionLogWriter log(log_file, meta, streams);
   SessionSummary summary(OptionsFromMeta(meta));
   const auto drain = [&](SessionLogWriter& w) {
     LeaderTickRecord l;
-    while (leader.records().TryPop(l)) {
+    while (leader && leader->unit->records().TryPop(l)) {
       w.Append(kLeaderStream, &l);
       summary.AddLeader(l);
     }
     FollowerTickRecord f;
-    while (follower.TakeRecord(f)) {
+    while (follower && follower->unit->TakeRecord(f)) {
       w.Append(kFollowerStream, &f);
       summary.AddFollower(f);
     }
@@ -150,72 +185,143 @@ TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, 
   // A replay ends the session 0.5 s after its last sample (the robot has come to rest).
   double ended_since_s = -1;
   const auto keep_going = [&](double now_s) {
+    if (background) background(now_s);
+    if (stop && stop->load(std::memory_order_relaxed)) return false;
+    if (!leader) return true;
     LeaderTickRecord latest;
-    const bool ended = leader.latest().Read(latest) && latest.leader_state == static_cast<std::uint8_t>(LeaderState::kEnded);
+    const bool ended = leader->unit->latest().Read(latest) &&
+                       latest.leader_state == static_cast<std::uint8_t>(LeaderState::kEnded);
     if (!ended) ended_since_s = -1;
     else if (ended_since_s < 0) ended_since_s = now_s;
     return !(ended && now_s - ended_since_s >= 0.5);
   };
 
-  rt::LoopOptions leader_loop, follower_loop;
-  leader_loop.name = "leader";
-  leader_loop.period_ns = std::llround(1e9 / request.rate_hz);
-  follower_loop.name = "follower";
-  follower_loop.period_ns = std::llround(1e9 / follower_rate_hz);
-  follower_loop.fifo_priority = 81;  // the actuation outranks the haptic loop [assumed]: a late step is a jerk
-  const std::vector<rt::ScheduledTask> tasks = {{&leader, leader_loop}, {&follower_task, follower_loop}};
+  std::vector<rt::ScheduledTask> tasks;
+  if (leader) {
+    rt::LoopOptions o;
+    o.name = "leader";
+    o.period_ns = std::llround(1e9 / request.rate_hz);
+    tasks.push_back({leader->unit.get(), o});
+  }
+  if (follower) {
+    rt::LoopOptions o;
+    o.name = "follower";
+    o.period_ns = std::llround(1e9 / follower_rate_hz);
+    o.fifo_priority = 81;  // the actuation outranks the haptic loop [assumed]: a late step is a jerk
+    tasks.push_back({follower->task.get(), o});
+  }
 
   rt::RunResult run;
-  if (request.real_clock) {
+  if (clock.real) {
     FlightRecorder recorder(log, drain);
     recorder.Start();
-    run = rt::RunRealTime(mono_clock, tasks, request.duration_s, keep_going);
+    run = rt::RunRealTime(*clock.real, tasks, request.duration_s, keep_going);
     if (const std::string error = recorder.Stop(); !error.empty()) throw std::runtime_error(error);
   } else {
-    run = rt::RunSimulated(sim_clock, tasks, request.duration_s, [&](double now_s) {
+    run = rt::RunSimulated(*clock.simulated, tasks, request.duration_s, [&](double now_s) {
       drain(log);
-      renderer->StepSimulatedBackground(now_s);
+      if (leader) leader->renderer->StepSimulatedBackground(now_s);
       return keep_going(now_s);
     });
     drain(log);
   }
 
   // The session is over: the device's forces off, the drives unpowered (they hold where they are).
-  device->EnableForces(false);
-  back_end->Disable();
+  if (leader) leader->device->EnableForces(false);
+  if (follower) follower->back_end->Disable();
 
   SessionEndRecord end;
   end.elapsed_s = run.elapsed_s;
-  const rt::LoopStats& ls = run.stats[0];
-  const rt::LoopStats& fs = run.stats[1];
-  end.leader_loop_ticks = ls.ticks;
-  end.leader_overruns = ls.overruns;
-  end.leader_period_jitter_us_p99 = ls.period_jitter.PercentileUs(0.99);
-  end.leader_period_jitter_us_max = ls.period_jitter.max_us();
-  end.leader_wake_latency_us_p99 = ls.wake_latency.PercentileUs(0.99);
-  end.follower_loop_ticks = fs.ticks;
-  end.follower_overruns = fs.overruns;
-  end.follower_period_jitter_us_p99 = fs.period_jitter.PercentileUs(0.99);
-  end.follower_period_jitter_us_max = fs.period_jitter.max_us();
-  end.follower_wake_latency_us_p99 = fs.wake_latency.PercentileUs(0.99);
-  end.watchdog_holds = follower.counters().watchdog_holds;
-  end.setpoints_accepted = follower.counters().setpoints_accepted;
-  end.setpoints_rejected = follower.counters().setpoints_rejected;
-  end.leader_records_dropped = leader.counters().records_dropped;
-  end.follower_records_dropped = follower.counters().records_dropped;
-  end.device_failures = leader.counters().device_failures;
-  end.ik_rejected = leader.counters().ik_rejected;
+  std::size_t next = 0;
+  if (leader) {
+    const rt::LoopStats& ls = run.stats[next++];
+    end.leader_loop_ticks = ls.ticks;
+    end.leader_overruns = ls.overruns;
+    end.leader_period_jitter_us_p99 = ls.period_jitter.PercentileUs(0.99);
+    end.leader_period_jitter_us_max = ls.period_jitter.max_us();
+    end.leader_wake_latency_us_p99 = ls.wake_latency.PercentileUs(0.99);
+    end.leader_records_dropped = leader->unit->counters().records_dropped;
+    end.device_failures = leader->unit->counters().device_failures;
+    end.ik_rejected = leader->unit->counters().ik_rejected;
+  }
+  if (follower) {
+    const rt::LoopStats& fs = run.stats[next++];
+    const FollowerCounters& c = follower->unit->counters();
+    end.follower_loop_ticks = fs.ticks;
+    end.follower_overruns = fs.overruns;
+    end.follower_period_jitter_us_p99 = fs.period_jitter.PercentileUs(0.99);
+    end.follower_period_jitter_us_max = fs.period_jitter.max_us();
+    end.follower_wake_latency_us_p99 = fs.wake_latency.PercentileUs(0.99);
+    end.watchdog_holds = c.watchdog_holds;
+    end.setpoints_accepted = c.setpoints_accepted;
+    end.setpoints_rejected = c.setpoints_rejected;
+    end.follower_records_dropped = c.records_dropped;
+  }
   log.Append(kEndStream, &end);
   log.Flush();
   summary.SetEnd(end);
 
   TeleopOutputs out;
   out.summary = summary.Summary();
+  out.summary["units"] = meta["units"];
   out.leader_csv = summary.leader_csv();
   out.follower_csv = summary.follower_csv();
   out.periods_csv = summary.PeriodsCsv();
   out.warnings = run.warnings;
   return out;
+}
+
+}  // namespace
+
+TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, const std::filesystem::path& log_file) {
+  CheckRequest(request, Units::kBoth);
+  rt::SimulatedClock sim_clock;
+  rt::MonotonicClock mono_clock;
+  const rt::Clock& clock = request.real_clock ? static_cast<const rt::Clock&>(mono_clock) : sim_clock;
+  InProcessLink link(clock);
+  FollowerSide follower = MakeFollowerSide(request, setup, link, clock);
+  LeaderSide leader = MakeLeaderSide(request, setup, link);
+  if (request.enable_at_start) link.operator_commands().Send(EnableCommand());
+  RunClock run_clock;
+  if (request.real_clock) run_clock.real = &mono_clock;
+  else run_clock.simulated = &sim_clock;
+  return RunSides(request, setup, Units::kBoth, &leader, &follower, run_clock, log_file, nullptr, {});
+}
+
+TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, LeaderLink& link,
+                        const std::filesystem::path& log_file, const std::atomic<bool>* stop) {
+  CheckRequest(request, Units::kLeader);
+  TeleopRequest real = request;
+  real.real_clock = true;
+  rt::MonotonicClock clock;
+  LeaderSide leader = MakeLeaderSide(real, setup, link);
+  // The operator's enable: sent once the follower is heard from (a command sent before the link has matched it
+  // would be lost), and only if it is disabled (one that is homing, ready or following needs none).
+  bool enable_done = !request.enable_at_start;
+  const auto enable_when_heard = [&](double) {
+    if (enable_done || leader.unit->follower_statuses_received() == 0) return;
+    LeaderTickRecord latest;
+    if (!leader.unit->latest().Read(latest)) return;
+    if (latest.follower_state == static_cast<std::uint8_t>(OperatingState::kDisabled)) link.SendCommand(EnableCommand());
+    enable_done = true;
+  };
+  RunClock run_clock;
+  run_clock.real = &clock;
+  return RunSides(real, setup, Units::kLeader, &leader, nullptr, run_clock, log_file, stop, enable_when_heard);
+}
+
+TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
+                          const rt::MonotonicClock& clock, const std::filesystem::path& log_file,
+                          const std::atomic<bool>* stop) {
+  CheckRequest(request, Units::kFollower);
+  TeleopRequest real = request;
+  real.real_clock = true;
+  LocalCommandLink local(link);
+  FollowerSide follower = MakeFollowerSide(real, setup, local, clock);
+  if (request.enable_at_start) local.SendLocal(EnableCommand());
+  RunClock run_clock;
+  run_clock.real = &clock;
+  return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, {});
 }
 
 TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file) {
@@ -241,6 +347,7 @@ TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file) {
   out.leader_csv = summary.leader_csv();
   out.follower_csv = summary.follower_csv();
   out.periods_csv = summary.PeriodsCsv();
+  out.summary["units"] = log.meta.value("units", "both");
   if (log.truncated) out.warnings.push_back(where + "the last frame was cut short (the run was killed)");
   return out;
 }

@@ -4,7 +4,12 @@
 // session log; the summary computed from the recorded ticks. `--clock real` runs the loops on threads on
 // wall-clock deadlines; `--clock simulated` steps the same units deterministically on a SimulatedClock, as fast as
 // the machine allows. `robossis teleop` and the demo only call this.
+//
+// The same session splits over two processes or machines (`robossis leader`, `robossis follower`): RunLeader and
+// RunFollower each run one unit over a link given by the caller (the DDS link), on wall-clock deadlines, and write
+// their half of the outputs (their own records in their own session log).
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -19,8 +24,10 @@
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "robot/sim/sim_config.h"
+#include "src/core/rt/clock.h"
 #include "src/teleop/follower_config.h"
 #include "src/teleop/leader_config.h"
+#include "src/teleop/link.h"
 
 namespace robossis::teleop {
 
@@ -47,6 +54,10 @@ struct TeleopRequest {
   double rate_hz = 1000;               // the leader's loop (a multiple of the 1 kHz transfer rate)
   double duration_s = 10;              // a replay stops earlier: 0.5 s after its end
   bool real_clock = false;
+  // The operator's enable when the session starts (the follower homes, then follows once the leader has presence).
+  // Split: the follower enables itself at its start, and the leader sends enable once it first hears a disabled
+  // follower (one that disabled itself when the previous leader was lost).
+  bool enable_at_start = true;
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the mesh methods' atlas
 };
 
@@ -63,6 +74,20 @@ std::vector<std::string> KnownFollowers();  // sim, recorder, hal
 // Runs a session, writing its log to `log_file`. Throws std::invalid_argument on a bad request (naming the option),
 // std::runtime_error on a failure to write the log.
 TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, const std::filesystem::path& log_file);
+
+// The leader unit alone, over `link`, in real time: request.follower is not used. Ends after duration_s, 0.5 s after
+// a replay's end, or once `stop` (may be null; a signal handler sets it) is set. The outputs hold the leader's half
+// (leader.csv, the leader's keys of the summary).
+TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, LeaderLink& link,
+                        const std::filesystem::path& log_file, const std::atomic<bool>* stop = nullptr);
+
+// The follower unit alone, over `link`, in real time on `clock` (the one the link stamps arrivals with):
+// request.device and request.method are not used. Ends after duration_s or once `stop` is set; the drives are
+// disabled at the end. The outputs hold the follower's half (follower.csv, its keys of the summary, set-points
+// accepted and rejected).
+TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
+                          const rt::MonotonicClock& clock, const std::filesystem::path& log_file,
+                          const std::atomic<bool>* stop = nullptr);
 
 // The outputs of the run that wrote `log_file`, recomputed from its records. Throws std::runtime_error naming the
 // file and the problem.

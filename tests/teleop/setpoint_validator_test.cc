@@ -108,6 +108,22 @@ TEST_F(SetPointValidatorTest, RejectsATwistOrAPoseChangeAboveTheCaps) {
             SetPointVerdict::kTooFast);
 }
 
+TEST_F(SetPointValidatorTest, JudgesThePoseChangeOverTheSequenceStepsNotTheJitteredStamps) {
+  SetPointValidator v(model_, limits_);
+  SetPointSample s;
+  const Eigen::Vector3d cap_speed(0.010, 0, 0);  // 10 mm/s: 10 um per 1 ms set-point period
+  // A leader tick sampled its device 0.4 ms late, the next one on time: stamps 0.6 ms apart, one period of motion.
+  const double stamps[] = {0.000, 0.0014, 0.0020, 0.0030};
+  for (int k = 0; k < 4; ++k) {
+    const SetPointMessage m = Message(k + 1, stamps[k], cap_speed * (1e-3 * k), cap_speed);
+    EXPECT_EQ(v.CheckMessage(m, stamps[k], stamps[k], s), SetPointVerdict::kAccepted) << k;
+  }
+  // Neither a forged sequence jump (1000 steps in 1 ms of stamps) nor a forged stamp (1 s for one step) buys 1 mm.
+  const Eigen::Vector3d far = cap_speed * 3e-3 + Eigen::Vector3d(1e-3, 0, 0);
+  EXPECT_EQ(v.CheckMessage(Message(1004, 0.0040, far, cap_speed), 0.004, 0.004, s), SetPointVerdict::kTooFast);
+  EXPECT_EQ(v.CheckMessage(Message(5, 1.0030, far, cap_speed), 1.003, 1.003, s), SetPointVerdict::kTooFast);
+}
+
 TEST_F(SetPointValidatorTest, RejectsAJumpInVelocity) {
   SetPointValidator v(model_, limits_);
   SetPointSample s;

@@ -1,0 +1,88 @@
+#include "src/apps/teleop_options.h"
+
+#include <cmath>
+#include <iostream>
+
+#include "geometry/boundary_atlas.h"
+#include "src/apps/plotting.h"
+#include "src/core/units.h"
+
+namespace robossis::apps {
+
+void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
+  if (units != TeleopUnits::kFollower) {
+    cmd.add_option("--device", o.device,
+                   "sim | replay:FILE.csv (t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg) | dhd[:lib=PATH,serial=N,"
+                   "index=N,hold=1,window_ms=MS] (a sigma.7 through the Force Dimension SDK)")
+        ->capture_default_str();
+    cmd.add_option("--method", o.method,
+                   "Rendering method (render-compare's list; default: haptics.yaml hardware_default_method)");
+    cmd.add_option("--rate-hz", o.rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)")
+        ->capture_default_str();
+    cmd.add_option("--atlas", o.atlas, "Boundary atlas folder for mesh/mesh-live (default: build the coarse one)");
+  }
+  if (units != TeleopUnits::kLeader) {
+    cmd.add_option("--follower", o.follower,
+                   "sim (Bullet) | recorder (pulse recorder) | hal (step/direction drives through LinuxCNC HAL, "
+                   "hal.yaml)")
+        ->capture_default_str();
+  }
+  cmd.add_option("--duration-s", o.duration_s, "Run time (a replay ends 0.5 s after its last sample)")
+      ->capture_default_str();
+  cmd.add_option("--out", o.out, "Output folder (written atomically: complete or untouched)")->required();
+  cmd.add_option("--max-speed-mm-s", o.max_speed_mm_s, "Linear speed cap (default: transfer.yaml, 10 mm/s)");
+  cmd.add_option("--max-angular-speed-deg-s", o.max_angular_speed_deg_s,
+                 "Angular speed cap (default: transfer.yaml, 1 deg/s)");
+  cmd.add_flag("--no-plots", o.no_plots, "Skip the figure");
+  cmd.add_flag("--json", o.json, "Print summary.json to stdout");
+}
+
+namespace {
+double PositiveFinite(double value, const std::string& option) {
+  if (!(value > 0 && std::isfinite(value))) {
+    throw std::invalid_argument(option + ": expected a positive finite speed, got " + std::to_string(value));
+  }
+  return value;
+}
+}  // namespace
+
+TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o, bool real_clock)
+    : rsr(context.LoadRsr()),
+      sigma7(context.LoadSigma7()),
+      setup(teleop::TeleopSetup::Load(context.data_dir, rsr, sigma7)) {
+  if (o.max_speed_mm_s) {
+    setup.transfer.caps.max_linear_speed_m_s = MmToM(PositiveFinite(*o.max_speed_mm_s, "--max-speed-mm-s"));
+  }
+  if (o.max_angular_speed_deg_s) {
+    setup.transfer.caps.max_angular_speed_rad_s =
+        DegToRad(PositiveFinite(*o.max_angular_speed_deg_s, "--max-angular-speed-deg-s"));
+  }
+  setup.transfer.Validate();
+  setup.follower.setpoint.caps = setup.transfer.caps;  // the follower checks the caps the leader applies
+  request.device = o.device;
+  request.method = o.method.empty() ? setup.haptics.hardware_default_method : o.method;
+  request.follower = o.follower;
+  request.rate_hz = o.rate_hz;
+  request.duration_s = o.duration_s;
+  request.real_clock = real_clock;
+}
+
+void TeleopInputs::LoadAtlasIfNeeded(const TeleopCliOptions& o, const std::filesystem::path& scratch) {
+  if (request.method.rfind("mesh", 0) != 0) return;
+  request.atlas = std::make_shared<const geometry::BoundaryAtlas>(
+      o.atlas.empty() ? geometry::BuildAtlas(rsr, sigma7, geometry::AtlasSpec::Coarse(rsr), scratch / "atlas")
+                      : geometry::BoundaryAtlas::Load(o.atlas));
+}
+
+void WriteTeleopOutputs(const StagedOutputDir& out, const teleop::TeleopOutputs& o, TeleopUnits units, bool plots) {
+  out.Write("summary.json", o.summary.dump(2) + "\n");
+  if (units != TeleopUnits::kFollower) out.Write("leader.csv", o.leader_csv);
+  if (units != TeleopUnits::kLeader) out.Write("follower.csv", o.follower_csv);
+  out.Write("loop_periods.csv", o.periods_csv);
+  if (!plots || units != TeleopUnits::kBoth) return;
+  const PlotResult r = RunPlotScript("teleop_session.py", {"--dir", out.staging().string(), "--out",
+                                                           out.Path("teleop.png").string()});
+  if (!r.ok) std::cerr << "robossis: warning: teleop.png not rendered: " << r.message << "\n";
+}
+
+}  // namespace robossis::apps

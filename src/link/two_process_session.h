@@ -1,0 +1,36 @@
+#pragma once
+// `robossis teleop --link dds` and the demo's link section: the leader unit and the follower unit as two processes
+// of this program (`robossis follower`, then `robossis leader`) on one machine, talking over the DDS link exactly as
+// they would between two machines. The follower starts first and runs until the leader has finished; then it is
+// asked to stop (SIGINT) and disables its drives. Each process writes its half of the outputs into its own folder.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace robossis::link {
+
+struct TwoProcessRequest {
+  std::filesystem::path program;          // this program (SelfExecutable())
+  std::vector<std::string> global_args;   // options before the subcommand (--data-dir DIR)
+  std::vector<std::string> link_args;     // both units: --keys DIR | --insecure, --domain N, --interface, --peer
+  std::vector<std::string> leader_args;   // `robossis leader` only: --device, --method, --rate-hz, caps
+  std::vector<std::string> follower_args; // `robossis follower` only: --follower, caps
+  double duration_s = 10;                 // the leader's run time
+  double follower_start_timeout_s = 60;   // the leader waits this long for the follower to be heard [assumed]:
+                                          // Bullet's start and a secured DDS handshake take seconds on a slow machine
+  std::filesystem::path out_dir;          // leader/, follower/, leader.log, follower.log are written here
+};
+
+struct TwoProcessResult {
+  nlohmann::ordered_json leader_summary;    // leader/summary.json
+  nlohmann::ordered_json follower_summary;  // follower/summary.json
+};
+
+// Runs the two processes to the end. Throws std::runtime_error naming the unit, how it ended and the last line it
+// printed when either fails (the other is stopped; no process outlives the call).
+TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& request);
+
+}  // namespace robossis::link
