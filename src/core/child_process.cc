@@ -27,6 +27,10 @@ ChildProcess::ChildProcess(const std::filesystem::path& program, const std::vect
   std::vector<char*> argv;
   for (auto& a : full) argv.push_back(a.data());
   argv.push_back(nullptr);
+  if (!output.empty() && !std::filesystem::is_directory(output.parent_path().empty() ? "." : output.parent_path())) {
+    throw std::runtime_error(program.string() + ": cannot write its output to " + output.string() +
+                             ": no such folder");
+  }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (!output.empty()) {

@@ -56,6 +56,7 @@ nlohmann::ordered_json ReadSummary(const std::filesystem::path& file, const char
 }  // namespace
 
 TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& r) {
+  std::filesystem::create_directories(r.out_dir);
   const std::filesystem::path follower_log = r.out_dir / "follower.log";
   const std::filesystem::path leader_log = r.out_dir / "leader.log";
   // The follower outlives the leader: it is stopped by a signal, its duration is only a backstop.

@@ -30,6 +30,8 @@ void FollowerConfig::Validate() const {
           w.hold_decel_rad_s2, "> 0");
   require(std::isfinite(w.max_extrapolation_s) && w.max_extrapolation_s >= 0 && w.max_extrapolation_s <= 0.1,
           "watchdog.max_extrapolation", w.max_extrapolation_s, "0..0.1 s");
+  require(std::isfinite(w.max_tick_interval_s) && w.max_tick_interval_s >= 1e-5 && w.max_tick_interval_s <= 0.1,
+          "watchdog.max_tick_interval", w.max_tick_interval_s, "0.01..100 ms");
   require(std::isfinite(status_rate_hz) && status_rate_hz >= 100 && status_rate_hz <= 100000, "status.rate_hz",
           status_rate_hz, "100..100000 Hz");
   require(recorder_capacity >= 16 && recorder_capacity <= (1u << 24), "recorder.capacity",
@@ -52,6 +54,7 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   c.watchdog.hold_decel_m_s2 = MmToM(wd.PositiveNumber("hold_decel_mm_s2"));
   c.watchdog.hold_decel_rad_s2 = DegToRad(wd.PositiveNumber("hold_decel_deg_s2"));
   c.watchdog.max_extrapolation_s = 1e-3 * wd.NumberInRange("max_extrapolation_ms", 0.0, 100.0);
+  c.watchdog.max_tick_interval_s = 1e-3 * wd.NumberInRange("max_tick_interval_ms", 0.01, 100.0);
   c.status_rate_hz = root.Child("status").NumberInRange("rate_hz", 100.0, 100000.0);
   c.recorder_capacity = static_cast<std::size_t>(root.Child("recorder").NumberInRange("capacity", 16, 1 << 24));
   const ConfigNode g = root.Child("guard");

@@ -66,7 +66,9 @@ Eigen::Isometry3d FollowerUnit::WantedPose(double now_s) noexcept {
 
 void FollowerUnit::Tick() noexcept {
   const double now = clock_.NowS();
-  const double dt = first_tick_ ? 1.0 / 10000.0 : std::max(now - last_tick_s_, 0.0);
+  // The interval this tick moves over: the time since the last tick, but never more than max_tick_interval_s.
+  const double dt = first_tick_ ? 1.0 / 10000.0
+                                : std::clamp(now - last_tick_s_, 0.0, config_.watchdog.max_tick_interval_s);
   first_tick_ = false;
   last_tick_s_ = now;
   ++counters_.ticks;

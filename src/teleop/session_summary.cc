@@ -114,6 +114,10 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
                                      {"from", follower_state_ < 0 ? "start" : ToString(static_cast<OperatingState>(follower_state_))},
                                      {"to", ToString(r.state)},
                                      {"reason", ToString(r.reason)}});
+    if (r.reason == FaultReason::kBackEnd) {
+      follower_transitions_.back()["back_end_fault"] =
+          robot::ToString(static_cast<robot::FollowerFault>(r.back_end_fault));
+    }
     follower_state_ = state;
   }
   if (follower_ticks_ % static_cast<std::uint64_t>(follower_decimation_) == 0) {

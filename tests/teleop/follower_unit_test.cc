@@ -90,6 +90,22 @@ TEST_F(FollowerUnitTest, FollowsTheSetPointsOnceEnabled) {
   EXPECT_GT(back_end_.events().size(), 0u);  // the pulse recorder recorded the steps of the motion
 }
 
+TEST_F(FollowerUnitTest, AStalledTickLagsInsteadOfJumping) {
+  EnableAndFollow();
+  Run(0.2);
+  // The loop stalls for 14 ms (as on a loaded machine) while the leader keeps moving; the next tick commands at
+  // most max_tick_interval_s of motion at the caps, not the 14 ms the caps would allow.
+  const double before = CmdX();
+  clock_.AdvanceNs(140 * kTickNs);
+  leader_offset_ += 0.014 * leader_velocity_;
+  SendSetPoint();
+  unit_.Tick();
+  const double cap_step = transfer_.caps.max_linear_speed_m_s * config_.watchdog.max_tick_interval_s;
+  EXPECT_LE(CmdX() - before, cap_step * 1.0001);
+  EXPECT_GT(CmdX() - before, 0.0);  // it still moves towards the set-point
+  EXPECT_EQ(unit_.state(), OperatingState::kEnabled);
+}
+
 TEST_F(FollowerUnitTest, NoMotionWithoutPresence) {
   leader_flags_ = 0;
   Command(StateCommand::kEnable);
