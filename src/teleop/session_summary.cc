@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 #include "src/core/units.h"
+#include "src/teleop/delay_estimate.h"
 
 namespace robossis::teleop {
 
@@ -125,36 +125,11 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   ++follower_ticks_;
 }
 
-// The lag (0–200 ms, in transfer periods) that best aligns the transfer's filtered set-point velocity with the
-// velocity of the eq. 10–11 displacement (the hand's motion after the dynamic scaling, before any filter): the
-// hand-to-set-point delay of the motion transfer. The linear part, unless the hand only turned.
+// The hand-to-set-point delay of the motion transfer: the transfer's set-point against the eq. 10–11
+// displacement (the hand's motion after the dynamic scaling, before any filter), by the one estimator.
 double SessionSummary::HandToSetPointDelayMs() const {
-  const std::size_t n = t_sent_.size();
-  if (n < 20) return 0;
-  const double dt = (t_sent_.back() - t_sent_.front()) / static_cast<double>(n - 1);
-  double lin = 0, ang = 0;
-  for (const Vector6d& v : ideal_) {
-    lin = std::max(lin, v.head<3>().norm());
-    ang = std::max(ang, v.tail<3>().norm());
-  }
-  const int off = lin >= 1e-3 || ang == 0 ? 0 : 3;
-  const int max_lag = std::min<int>(static_cast<int>(std::lround(0.2 / dt)), static_cast<int>(n) / 2);
-  double best = std::numeric_limits<double>::infinity();
-  int best_lag = 0;
-  for (int lag = 0; lag <= max_lag; ++lag) {
-    double cost = 0;
-    for (std::size_t k = static_cast<std::size_t>(lag) + 1; k < n; ++k) {
-      const Eigen::Vector3d v_sp = (transfer_[k] - transfer_[k - 1]).segment<3>(off);
-      const Eigen::Vector3d v_id = (ideal_[k - lag] - ideal_[k - lag - 1]).segment<3>(off);
-      cost += (v_sp - v_id).squaredNorm();
-    }
-    cost /= static_cast<double>(n - lag - 1);
-    if (cost < best) {
-      best = cost;
-      best_lag = lag;
-    }
-  }
-  return 1e3 * best_lag * dt;
+  const DelayEstimate e = EstimateDelay(t_sent_, ideal_, t_sent_, VelocityOf(t_sent_, transfer_));
+  return e.valid ? 1e3 * e.delay_s : 0.0;
 }
 
 nlohmann::ordered_json SessionSummary::Summary() const {
