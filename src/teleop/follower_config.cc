@@ -24,10 +24,6 @@ void FollowerConfig::Validate() const {
   require(std::isfinite(w.leader_lost_after_s) && w.leader_lost_after_s >= w.hold_after_s &&
               w.leader_lost_after_s <= 60.0,
           "watchdog.leader_lost_after", w.leader_lost_after_s, "hold_after <= t <= 60 s");
-  require(std::isfinite(w.hold_decel_m_s2) && w.hold_decel_m_s2 > 0, "watchdog.hold_decel_mm_s2", w.hold_decel_m_s2,
-          "> 0");
-  require(std::isfinite(w.hold_decel_rad_s2) && w.hold_decel_rad_s2 > 0, "watchdog.hold_decel_deg_s2",
-          w.hold_decel_rad_s2, "> 0");
   require(std::isfinite(w.max_extrapolation_s) && w.max_extrapolation_s >= 0 && w.max_extrapolation_s <= 0.1,
           "watchdog.max_extrapolation", w.max_extrapolation_s, "0..0.1 s");
   require(std::isfinite(status_rate_hz) && status_rate_hz >= 100 && status_rate_hz <= 100000, "status.rate_hz",
@@ -48,8 +44,6 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   const ConfigNode wd = root.Child("watchdog");
   c.watchdog.hold_after_s = 1e-3 * wd.PositiveNumber("hold_after_ms");
   c.watchdog.leader_lost_after_s = 1e-3 * wd.PositiveNumber("leader_lost_after_ms");
-  c.watchdog.hold_decel_m_s2 = MmToM(wd.PositiveNumber("hold_decel_mm_s2"));
-  c.watchdog.hold_decel_rad_s2 = DegToRad(wd.PositiveNumber("hold_decel_deg_s2"));
   c.watchdog.max_extrapolation_s = 1e-3 * wd.NumberInRange("max_extrapolation_ms", 0.0, 100.0);
   c.status_rate_hz = root.Child("status").NumberInRange("rate_hz", 100.0, 100000.0);
   c.recorder_capacity = static_cast<std::size_t>(root.Child("recorder").NumberInRange("capacity", 16, 1 << 24));
