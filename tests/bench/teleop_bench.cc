@@ -74,8 +74,8 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
   const double duration_s = 5.0;
   const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
-  std::vector<double> latency_us, follower_part_us;
-  std::uint64_t leader_overruns = 0, follower_overruns = 0, used = 0;
+  std::vector<double> latency_us, follower_part_us, wait_us;  // wait: sample → the follower tick's start
+  std::uint64_t leader_overruns = 0, follower_overruns = 0, used = 0, realtime_refused = 0;
   for (auto _ : state) {
     rt::MonotonicClock clock;
     InProcessLink link(clock);
@@ -124,6 +124,7 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
     const rt::RunResult run = rt::RunRealTime(
         clock, {{&leader, leader_loop}, {&follower_task, follower_loop}}, duration_s, drain);
     drain(0);
+    realtime_refused += run.warnings.size();
     leader_overruns += run.stats[0].overruns;
     follower_overruns += run.stats[1].overruns;
     for (const FollowerTickRecord& r : records) {
@@ -132,6 +133,7 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
       const double a_s = 1e-9 * static_cast<double>(r.setpoint_stamp_ns);
       latency_us.push_back(1e6 * (r.command_time_s - a_s));
       follower_part_us.push_back(1e6 * (r.command_time_s - r.time_s));
+      wait_us.push_back(1e6 * (r.time_s - a_s));
       ++used;
     }
   }
@@ -143,7 +145,10 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   state.counters["p99_over_1ms_tick"] = p99 / 1000.0;
   state.counters["p99_over_50ms_goal"] = p99 / 50000.0;
   state.counters["follower_tick_to_command_p99_us"] = Percentile(follower_part_us, 0.99);
+  state.counters["sample_to_follower_tick_p50_us"] = Percentile(wait_us, 0.50);
+  state.counters["sample_to_follower_tick_p01_us"] = Percentile(wait_us, 0.01);
   state.counters["leader_overruns"] = static_cast<double>(leader_overruns);
+  state.counters["realtime_warnings"] = static_cast<double>(realtime_refused);  // SCHED_FIFO or mlockall refused
   state.counters["follower_overruns"] = static_cast<double>(follower_overruns);
 }
 BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
