@@ -176,7 +176,7 @@ void FollowerUnit::Tick() noexcept {
     if (guarded.status != robot::FeasibleMotionStatus::kTracked) ++counters_.guard_constrained;
   }
   const Vector6d moved = robot::TwistStepBetween(X_cmd_, guarded.X_FM);
-  twist_cmd_ = dt > 0 ? Vector6d(moved / dt) : Vector6d::Zero();
+  if (dt > 0) twist_cmd_ = moved / dt;  // a tick without elapsed time (a clock that did not advance) keeps it
   X_cmd_ = guarded.X_FM;
 
   // 5. Actuation (eq. 15–17) and the back end.
