@@ -2,7 +2,7 @@
 // The follower unit of Fig. 2: one 10 kHz actuation tick at a time. Each Tick() takes the queued state commands,
 // takes the newest set-point and validates it (SetPointValidator: the one validated path), runs the safety state
 // machine, follows the 1 kHz set-point at the tick by its twist (re-anchored after a clutch, a hold or a fault so
-// that the robot does not jump), bounds the step to the speed caps, passes it through the feasible-motion guard
+// that the robot does not jump), bounds the step to the speed and acceleration caps, passes it through the guard
 // (no joint limit crossed, the spherical cones included; exact IK), runs the actuation (eq. 15–17), commands and
 // services the back end, publishes the status (decimated) and pushes a per-tick record for the flight recorder.
 //
