@@ -160,7 +160,8 @@ BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Iterations(1)->Unit(ben
 // set-point; for a step it is the filters' centroid delay. ramp_position_lag_ms: at steady state, how far the
 // set-point's position trails the goal's, in time at that speed (the delay plus any constant offset the filters
 // leave). velocity_50pct_delay_ms: from the goal's velocity reaching half its final speed to the set-point's;
-// velocity_overshoot: the set-point's peak speed over the final one, minus 1. arg: the goal's speed in % of the linear cap (below it, so the cap's rate limiting plays no part).
+// velocity_overshoot: the set-point's peak speed over the final one, minus 1. Arg 1: the goal's speed in % of the
+// linear cap (below it, so that the cap's rate limiting plays no part).
 void BM_TransferFilterDelay(benchmark::State& state) {
   const TeleopSetup& setup = Setup();
   const Eigen::Isometry3d home = setup.rsr->geometry().X_FM_home;
@@ -168,8 +169,14 @@ void BM_TransferFilterDelay(benchmark::State& state) {
   const int ratio = static_cast<int>(std::lround(setup.transfer.rates.actuation_rate_hz / 1000.0));
   DelayEstimate estimate;
   double lag_ms = 0, rise_ms = 0, overshoot = 0;
+  // Arg 2: the filters' share, one at a time: 0 as shipped, 1 without the Kalman filter (eq. 12), 2 without the
+  // moving average, 3 without either (the cap guard's position feedback alone).
+  transfer::TransferConfig config = setup.transfer;
+  const int variant = static_cast<int>(state.range(1));
+  if (variant & 1) config.filter.kalman_enabled = false;
+  if (variant & 2) config.filter.moving_average_window = 1;
   for (auto _ : state) {
-    transfer::MotionTransfer mt(setup.transfer, home);
+    transfer::MotionTransfer mt(config, home);
     mt.SetClutch(true);
     // The hand's speed such that the goal moves at `fraction` of the cap (eq. 11 scales the hand's motion).
     const double v_hand = fraction * setup.transfer.caps.max_linear_speed_m_s / setup.transfer.mapping.translation_scale;
@@ -209,6 +216,14 @@ void BM_TransferFilterDelay(benchmark::State& state) {
   state.counters["velocity_50pct_delay_ms"] = rise_ms;
   state.counters["velocity_overshoot"] = overshoot;
 }
-BENCHMARK(BM_TransferFilterDelay)->Arg(20)->Arg(50)->Arg(90)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TransferFilterDelay)
+    ->Args({20, 0})
+    ->Args({50, 0})
+    ->Args({90, 0})
+    ->Args({50, 1})
+    ->Args({50, 2})
+    ->Args({50, 3})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
