@@ -39,6 +39,12 @@ class FollowerHoldTest : public ::testing::TestWithParam<double> {
 
   Eigen::Vector3d direction_ = Eigen::Vector3d::UnitX();
   double leader_s_ = 0, leader_v_ = 0;  // the leader's distance along direction_ and its speed
+  // Rotation instead (rotating_): the leader turns about axis_ (in F), ramping to the angular cap.
+  bool rotating_ = false;
+  Eigen::Vector3d axis_ = Eigen::Vector3d::UnitZ();
+  double leader_angle_ = 0, leader_w_ = 0;
+  const double w_cap_ = config_.setpoint.caps.max_angular_speed_rad_s;
+  const double alpha_cap_ = config_.setpoint.max_angular_accel_rad_s2;
   std::uint8_t leader_flags_ = kSetPointPresence;
   bool leader_sending_ = true;
   std::uint64_t sequence_ = 0;
@@ -47,32 +53,47 @@ class FollowerHoldTest : public ::testing::TestWithParam<double> {
   // The commanded position's history, for the finite-difference velocity and acceleration.
   Eigen::Vector3d prev_p_ = Eigen::Vector3d::Zero(), prev_v_ = Eigen::Vector3d::Zero();
   double max_accel_ = 0;
+  Eigen::Matrix3d prev_R_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d prev_w_ = Eigen::Vector3d::Zero();
+  double max_alpha_ = 0;
 
   FollowerConfig Config(double accel) const {
     FollowerConfig c = FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer_.caps);
-    if (accel > 0) c.setpoint.max_linear_accel_m_s2 = accel;
+    if (accel > 0) {
+      c.setpoint.max_linear_accel_m_s2 = accel;
+      c.setpoint.max_angular_accel_rad_s2 = 2 * accel;  // 0.2 rad/s^2: the 1 deg/s cap stops in 87 ms
+    }
     return c;
   }
 
   Eigen::Vector3d CmdP() const { return unit_.commanded_pose().translation(); }
   Eigen::Vector3d CmdV() const { return prev_v_; }
+  Eigen::Matrix3d CmdR() const { return unit_.commanded_pose().linear(); }
 
   void Step() {
     clock_.AdvanceNs(kTickNs);
     ++tick_;
     if (tick_ % 10 == 0) {
       // Accelerate at half the cap, up to the speed cap.
-      leader_v_ = std::min(v_cap_, leader_v_ + 0.5 * a_cap_ * 1e-3);
-      leader_s_ += leader_v_ * 1e-3;
+      if (rotating_) {
+        leader_w_ = std::min(w_cap_, leader_w_ + 0.5 * alpha_cap_ * 1e-3);
+        leader_angle_ += leader_w_ * 1e-3;
+      } else {
+        leader_v_ = std::min(v_cap_, leader_v_ + 0.5 * a_cap_ * 1e-3);
+        leader_s_ += leader_v_ * 1e-3;
+      }
       if (leader_sending_) {
         const Eigen::Vector3d p = home_.translation() + leader_s_ * direction_;
         const Eigen::Vector3d v = leader_v_ * direction_;
+        const Eigen::Vector3d w = leader_w_ * axis_;
+        const Eigen::Quaterniond q(Eigen::AngleAxisd(leader_angle_, axis_));
         SetPointMessage m;
         m.sequence = ++sequence_;
         m.leader_session = 1;
         m.stamp_ns = clock_.now_ns();
         m.p_FM = {p.x(), p.y(), p.z()};
-        m.twist_F = {v.x(), v.y(), v.z(), 0, 0, 0};
+        m.q_FM = {q.w(), q.x(), q.y(), q.z()};
+        m.twist_F = {v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
         m.flags = leader_flags_;
         link_.SendSetPoint(m);
         last_arrival_s_ = clock_.NowS();
@@ -83,13 +104,20 @@ class FollowerHoldTest : public ::testing::TestWithParam<double> {
     if (tick_ > 1) max_accel_ = std::max(max_accel_, (v - prev_v_).norm() / kTickS);
     prev_p_ = CmdP();
     prev_v_ = v;
+    // The angular velocity in F: the rotation since the last tick, as a rotation vector, over the tick.
+    const Eigen::AngleAxisd turn(CmdR() * prev_R_.transpose());
+    const Eigen::Vector3d w = turn.angle() * turn.axis() / kTickS;
+    if (tick_ > 1) max_alpha_ = std::max(max_alpha_, (w - prev_w_).norm() / kTickS);
+    prev_R_ = CmdR();
+    prev_w_ = w;
   }
   void Run(double seconds) {
     for (std::int64_t i = 0, n = std::llround(seconds / kTickS); i < n; ++i) Step();
   }
-  // Enabled and cruising at the speed cap.
+  // Enabled and cruising at the speed cap (the angular one when rotating_).
   void CruiseAtTheCap() {
     prev_p_ = CmdP();
+    prev_R_ = CmdR();
     StateCommandMessage m;
     m.command = StateCommand::kEnable;
     ASSERT_TRUE(link_.operator_commands().Send(m));
@@ -97,17 +125,21 @@ class FollowerHoldTest : public ::testing::TestWithParam<double> {
     ASSERT_EQ(unit_.state(), OperatingState::kEnabled);
     // The leader's ramp (2 v/a), then ten of the follower's time constants (v/a: it trails the set-point by the
     // distance it needs to stop, v^2 / 2a).
-    Run(12.0 * v_cap_ / a_cap_ + 0.05);
+    Run(rotating_ ? 12.0 * w_cap_ / alpha_cap_ + 0.05 : 12.0 * v_cap_ / a_cap_ + 0.05);
     ASSERT_EQ(unit_.state(), OperatingState::kEnabled);
     ASSERT_EQ(unit_.counters().setpoints_rejected, 0u);
-    ASSERT_GT(CmdV().norm(), 0.99 * v_cap_);
+    if (rotating_) {
+      ASSERT_GT(prev_w_.norm(), 0.99 * w_cap_);
+    } else {
+      ASSERT_GT(CmdV().norm(), 0.99 * v_cap_);
+    }
   }
   // Steps until the commanded pose stands still for 10 ms (at most `max_s`); returns false if it never did.
   bool RunToRest(double max_s) {
     int still = 0;
     for (std::int64_t i = 0, n = std::llround(max_s / kTickS); i < n && still < 100; ++i) {
       Step();
-      still = CmdV().norm() == 0.0 ? still + 1 : 0;
+      still = CmdV().norm() == 0.0 && prev_w_.norm() == 0.0 ? still + 1 : 0;
     }
     return still >= 100;
   }
@@ -185,6 +217,30 @@ TEST_P(FollowerHoldTest, AHoldTowardsAStrokeLimitStopsAtIt) {
   EXPECT_TRUE(robot::CalcInverseKinematics(model_, unit_.commanded_pose()).feasible);
   EXPECT_EQ(unit_.counters().limit_violations, 0u);
   EXPECT_GT(unit_.counters().guard_constrained, 0u);  // the guard, not the deceleration, stopped it at the wall
+}
+
+TEST_P(FollowerHoldTest, ALeaderThatStopsTurningAtTheAngularCapStopsWithinTheAngularCaps) {
+  rotating_ = true;
+  CruiseAtTheCap();
+  leader_sending_ = false;
+  const double t_last = last_arrival_s_;
+  const Eigen::Matrix3d R_stop = CmdR();
+  while (unit_.state() == OperatingState::kEnabled && clock_.NowS() - t_last < 0.1) Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kReady);
+  EXPECT_LE(clock_.NowS() - t_last, config_.watchdog.hold_after_s + 1.5 * kTickS);
+  const double w_hold = prev_w_.norm();
+  if (alpha_cap_ < 1.0) {
+    EXPECT_GT(w_hold, 0.1 * w_cap_);  // still turning: the hold itself decelerates
+  }
+  const Eigen::Matrix3d R_hold = CmdR();
+  ASSERT_TRUE(RunToRest(1.0));
+  const double stop = w_cap_ * w_cap_ / (2 * alpha_cap_) + w_cap_ * kTickS;
+  const double extrapolated = w_cap_ * (config_.watchdog.max_extrapolation_s + 1e-3);
+  EXPECT_LE(Eigen::AngleAxisd(CmdR() * R_stop.transpose()).angle(), stop + extrapolated);
+  EXPECT_LE(Eigen::AngleAxisd(CmdR() * R_hold.transpose()).angle(),
+            w_hold * w_hold / (2 * alpha_cap_) + w_hold * kTickS + 1e-9);
+  EXPECT_LE(max_alpha_, alpha_cap_ * (1 + 1e-3));
+  EXPECT_EQ(unit_.counters().limit_violations, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(AccelerationCaps, FollowerHoldTest, ::testing::Values(0.0, 0.1),
