@@ -88,6 +88,10 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
+  if (r.took_setpoint && r.setpoint_verdict != SetPointVerdict::kAccepted) {
+    const auto v = static_cast<std::size_t>(r.setpoint_verdict);
+    if (v < rejected_by_verdict_.size()) ++rejected_by_verdict_[v];
+  }
   min_margin_ = std::min(min_margin_, r.meas_min_margin);
   if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
   const Eigen::Isometry3d meas = Pose(r.meas_p_FM, r.meas_q_FM);
@@ -162,6 +166,11 @@ nlohmann::ordered_json SessionSummary::Summary() const {
                                                               static_cast<double>(end_.follower_loop_ticks) : 0.0;
   j["setpoints_accepted"] = end_.setpoints_accepted;
   j["setpoints_rejected"] = end_.setpoints_rejected;
+  nlohmann::ordered_json by_verdict = nlohmann::ordered_json::object();
+  for (int v = 1; v < kNumSetPointVerdicts; ++v) {
+    by_verdict[ToString(static_cast<SetPointVerdict>(v))] = rejected_by_verdict_[static_cast<std::size_t>(v)];
+  }
+  j["setpoints_rejected_by_reason"] = by_verdict;  // from the records (as the off-line chain's summary names it)
   j["setpoints_stopped_at_boundary"] = stopped_at_boundary_;
   j["setpoints_ik_rejected"] = end_.ik_rejected;
   j["device_failures"] = end_.device_failures;
