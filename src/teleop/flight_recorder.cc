@@ -50,7 +50,8 @@ StreamSpec FollowerStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, back_end_fault, ""),       ROBOSSIS_LOG_FIELD(R, took_setpoint, ""),
       ROBOSSIS_LOG_FIELD(R, setpoint_verdict, ""),     ROBOSSIS_LOG_FIELD(R, guard_status, ""),
       ROBOSSIS_LOG_FIELD(R, actuation_status, ""),     ROBOSSIS_LOG_FIELD(R, holding, ""),
-      ROBOSSIS_LOG_FIELD(R, meas_feasible, ""),
+      ROBOSSIS_LOG_FIELD(R, meas_feasible, ""),        ROBOSSIS_LOG_FIELD(R, setpoint_stamp_ns, "ns"),
+      ROBOSSIS_LOG_FIELD(R, command_time_s, "s"),
   };
   return s;
 }

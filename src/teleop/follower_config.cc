@@ -24,10 +24,6 @@ void FollowerConfig::Validate() const {
   require(std::isfinite(w.leader_lost_after_s) && w.leader_lost_after_s >= w.hold_after_s &&
               w.leader_lost_after_s <= 60.0,
           "watchdog.leader_lost_after", w.leader_lost_after_s, "hold_after <= t <= 60 s");
-  require(std::isfinite(w.hold_decel_m_s2) && w.hold_decel_m_s2 > 0, "watchdog.hold_decel_mm_s2", w.hold_decel_m_s2,
-          "> 0");
-  require(std::isfinite(w.hold_decel_rad_s2) && w.hold_decel_rad_s2 > 0, "watchdog.hold_decel_deg_s2",
-          w.hold_decel_rad_s2, "> 0");
   require(std::isfinite(w.max_extrapolation_s) && w.max_extrapolation_s >= 0 && w.max_extrapolation_s <= 0.1,
           "watchdog.max_extrapolation", w.max_extrapolation_s, "0..0.1 s");
   require(std::isfinite(w.max_tick_interval_s) && w.max_tick_interval_s >= 1e-5 && w.max_tick_interval_s <= 0.1,
@@ -51,8 +47,6 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   const ConfigNode wd = root.Child("watchdog");
   c.watchdog.hold_after_s = 1e-3 * wd.PositiveNumber("hold_after_ms");
   c.watchdog.leader_lost_after_s = 1e-3 * wd.PositiveNumber("leader_lost_after_ms");
-  c.watchdog.hold_decel_m_s2 = MmToM(wd.PositiveNumber("hold_decel_mm_s2"));
-  c.watchdog.hold_decel_rad_s2 = DegToRad(wd.PositiveNumber("hold_decel_deg_s2"));
   c.watchdog.max_extrapolation_s = 1e-3 * wd.NumberInRange("max_extrapolation_ms", 0.0, 100.0);
   c.watchdog.max_tick_interval_s = 1e-3 * wd.NumberInRange("max_tick_interval_ms", 0.01, 100.0);
   c.status_rate_hz = root.Child("status").NumberInRange("rate_hz", 100.0, 100000.0);

@@ -15,8 +15,6 @@ namespace robossis::teleop {
 struct FollowerWatchdogConfig {
   double hold_after_s = 0.030;         // [assumed] no valid set-point this long -> hold
   double leader_lost_after_s = 0.5;    // [assumed] -> disabled
-  double hold_decel_m_s2 = 0.05;       // [assumed]
-  double hold_decel_rad_s2 = 0.0873;   // [assumed] 5 deg/s^2
   double max_extrapolation_s = 0.002;  // [assumed]
   // The most motion one tick may command, in time at the caps ([assumed]): after a stalled tick (a loaded machine,
   // a page fault) the robot lags instead of jumping to where the caps would have taken it.

@@ -19,11 +19,24 @@ void StoreVector(const Vec& v, std::array<double, N>& out) noexcept {
   for (int i = 0; i < N; ++i) out[i] = v[i];
 }
 
-// Moves `value` towards zero by at most `delta` along its own direction.
-Eigen::Vector3d Decelerate(const Eigen::Vector3d& value, double delta) noexcept {
-  const double n = value.norm();
-  if (n <= delta) return Eigen::Vector3d::Zero();
-  return value * ((n - delta) / n);
+// The largest speed from which a motion decelerating at `accel` (one change of accel*dt per tick) still stops
+// within `distance`: the discrete form of v^2 / (2 a) + v dt / 2 = d.
+double BrakingSpeed(double distance, double accel, double dt) noexcept {
+  const double h = 0.5 * accel * dt;
+  return std::max(0.0, -h + std::sqrt(h * h + 2.0 * accel * distance));
+}
+
+// One part (linear or angular) of the next commanded velocity: towards `step` (the remaining motion to the wanted
+// pose), at most `speed`, slow enough to stop there at `accel`, and changed from `v` by at most accel*dt.
+Eigen::Vector3d NextVelocity(const Eigen::Vector3d& v, const Eigen::Vector3d& step, double speed, double accel,
+                             double dt) noexcept {
+  Eigen::Vector3d wanted = Eigen::Vector3d::Zero();
+  const double d = step.norm();
+  if (d > 0 && dt > 0) wanted = step * (std::min({speed, d / dt, BrakingSpeed(d, accel, dt)}) / d);
+  Eigen::Vector3d change = wanted - v;
+  const double n = change.norm(), max_change = accel * dt;
+  if (n > max_change) change *= max_change / n;
+  return v + change;
 }
 
 }  // namespace
@@ -101,6 +114,7 @@ void FollowerUnit::Tick() noexcept {
       setpoint_ = sample;
       setpoint_arrival_s_ = arrival_s;
       setpoint_sequence_ = message.sequence;
+      setpoint_stamp_ns_ = message.stamp_ns;
       setpoint_flags_ = message.flags;
     } else {
       ++counters_.setpoints_rejected;
@@ -134,19 +148,26 @@ void FollowerUnit::Tick() noexcept {
     validator_.Reset();
   }
 
-  // 4. Motion: follow, or hold decelerating within the caps.
+  // 4. Motion: follow, or hold; either way within the speed caps and the acceleration caps (the validator's: one
+  // place for each limit). Following approaches the wanted pose no faster than it can stop there; holding (the
+  // watchdog, no presence, the clutch) decelerates from the commanded velocity to rest at the acceleration cap.
   const transfer::SpeedCaps& caps = config_.setpoint.caps;
   Vector6d step = Vector6d::Zero();
-  if (machine_.following()) {
-    step = CapStepToSpeeds(robot::TwistStepBetween(X_cmd_, WantedPose(now)), caps, dt);
-  } else {
-    need_anchor_ = true;  // resuming re-anchors
-    if (machine_.powered()) {
-      Vector6d twist = twist_cmd_;
-      twist.head<3>() = Decelerate(twist_cmd_.head<3>(), config_.watchdog.hold_decel_m_s2 * dt);
-      twist.tail<3>() = Decelerate(twist_cmd_.tail<3>(), config_.watchdog.hold_decel_rad_s2 * dt);
-      step = CapStepToSpeeds(twist * dt, caps, dt);
+  if (machine_.powered()) {
+    Vector6d remaining = Vector6d::Zero();  // holding: the wanted motion is none
+    if (machine_.following()) {
+      remaining = robot::TwistStepBetween(X_cmd_, WantedPose(now));
+    } else {
+      need_anchor_ = true;  // resuming re-anchors
     }
+    Vector6d twist;
+    twist.head<3>() = NextVelocity(twist_cmd_.head<3>(), remaining.head<3>(), caps.max_linear_speed_m_s,
+                                   config_.setpoint.max_linear_accel_m_s2, dt);
+    twist.tail<3>() = NextVelocity(twist_cmd_.tail<3>(), remaining.tail<3>(), caps.max_angular_speed_rad_s,
+                                   config_.setpoint.max_angular_accel_rad_s2, dt);
+    step = CapStepToSpeeds(twist * dt, caps, dt);
+  } else {
+    need_anchor_ = true;
   }
   robot::FeasibleMotionResult guarded;
   if (step.isZero(0.0)) {
@@ -157,12 +178,16 @@ void FollowerUnit::Tick() noexcept {
     if (guarded.status != robot::FeasibleMotionStatus::kTracked) ++counters_.guard_constrained;
   }
   const Vector6d moved = robot::TwistStepBetween(X_cmd_, guarded.X_FM);
-  twist_cmd_ = dt > 0 ? Vector6d(moved / dt) : Vector6d::Zero();
+  if (dt > 0) twist_cmd_ = moved / dt;  // a tick without elapsed time (a clock that did not advance) keeps it
   X_cmd_ = guarded.X_FM;
 
   // 5. Actuation (eq. 15–17) and the back end.
   const actuation::ActuationOutput& out = actuator_.Tick(now, X_cmd_, twist_cmd_);
-  if (machine_.powered()) back_end_.Command(out.command);
+  rec.command_time_s = now;
+  if (machine_.powered()) {
+    back_end_.Command(out.command);
+    rec.command_time_s = clock_.NowS();
+  }
   back_end_.Service(now);
   const robot::RsrFollowerState measured = back_end_.State();
   const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, measured.X_FM);
@@ -175,6 +200,7 @@ void FollowerUnit::Tick() noexcept {
     next_status_s_ = std::max(next_status_s_ + period, now);
   }
   rec.setpoint_sequence = setpoint_sequence_;
+  rec.setpoint_stamp_ns = setpoint_stamp_ns_;
   StorePose(setpoint_.X_FM, rec.setpoint_p_FM, rec.setpoint_q_FM);
   StoreVector<6>(setpoint_.twist_F, rec.setpoint_twist_F);
   rec.setpoint_flags = setpoint_flags_;

@@ -2,15 +2,19 @@
 // The follower unit of Fig. 2: one 10 kHz actuation tick at a time. Each Tick() takes the queued state commands,
 // takes the newest set-point and validates it (SetPointValidator: the one validated path), runs the safety state
 // machine, follows the 1 kHz set-point at the tick by its twist (re-anchored after a clutch, a hold or a fault so
-// that the robot does not jump), bounds the step to the speed caps, passes it through the feasible-motion guard
+// that the robot does not jump), bounds the step to the speed and acceleration caps, passes it through the guard
 // (no joint limit crossed, the spherical cones included; exact IK), runs the actuation (eq. 15–17), commands and
 // services the back end, publishes the status (decimated) and pushes a per-tick record for the flight recorder.
 //
 // Not a loop: a runner calls Tick() on a thread at 10 kHz (real clock) or steps it (simulated clock). Tick() is
 // allocation-free, lock-free and noexcept; the constructor allocates the record queue.
 //
-// Watchdog: no valid set-point for hold_after_s -> the robot holds, decelerating within the hold deceleration
-// (counted in watchdog_holds); none for leader_lost_after_s -> the drives are disabled (reason kLeaderLost).
+// Motion: the commanded velocity changes by at most the acceleration caps per tick (SetPointLimits: the same caps
+// the validator applies to the set-points) and never exceeds the speed caps; following approaches the wanted pose
+// no faster than it can stop there.
+// Watchdog: no valid set-point for hold_after_s -> the robot holds, decelerating from its commanded velocity to
+// rest within the acceleration caps, and stopping at a joint limit rather than crossing it (the guard); counted in
+// watchdog_holds. None for leader_lost_after_s -> the drives are disabled (reason kLeaderLost).
 
 #include <array>
 #include <cstdint>
@@ -61,6 +65,10 @@ struct FollowerTickRecord {
   std::uint8_t actuation_status = 0;  // actuation::ActuationStatus
   bool holding = false;               // not following (hold, clutch, ready, watchdog)
   bool meas_feasible = true;
+  // Latency: the newest valid set-point's stamp (the leader clock at the device sample it came from), and the
+  // clock when this tick's joint command went to the back end (after Command(); the tick's start when unpowered).
+  std::int64_t setpoint_stamp_ns = 0;
+  double command_time_s = 0;
 };
 
 struct FollowerCounters {
@@ -120,6 +128,7 @@ class FollowerUnit {
   SetPointSample setpoint_;
   double setpoint_arrival_s_ = 0;
   std::uint64_t setpoint_sequence_ = 0;
+  std::int64_t setpoint_stamp_ns_ = 0;
   std::uint8_t setpoint_flags_ = 0;
   bool setpoint_live_ = false;  // a valid set-point within hold_after_s (for the watchdog's edge)
   // Re-anchoring: the set-point and the commanded pose when following resumed.

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "src/core/units.h"
+#include "src/teleop/delay_estimate.h"
 #include "src/teleop/follower_config.h"
 
 namespace robossis::teleop {
@@ -36,55 +37,21 @@ void IdealReference(const transfer::HcTrajectory& hc, const transfer::TransferCo
   }
 }
 
-// Linear interpolation of a 1 kHz reference series at time t (clamped at the ends).
-Vector6d InterpAt(const std::vector<double>& ts, const std::vector<Vector6d>& xs, double t) {
-  if (t <= ts.front()) return xs.front();
-  if (t >= ts.back()) return xs.back();
-  const auto it = std::upper_bound(ts.begin(), ts.end(), t);
-  const std::size_t j = static_cast<std::size_t>(it - ts.begin());
-  const double t0 = ts[j - 1], t1 = ts[j];
-  const double f = t1 > t0 ? (t - t0) / (t1 - t0) : 1.0;
-  return xs[j - 1] + f * (xs[j] - xs[j - 1]);
-}
-
-// The hand→set-point delay: the lag (0–500 ms, 0.5 ms steps) that minimises the RMS difference between the
-// set-point velocity and the delayed velocity of the ideal incremental trajectory. Velocities, not positions, so
-// that motion a stall discarded (an offset) does not bias the lag. Linear part, unless the motion is purely angular.
+// The hand→set-point delay by the one estimator (delay_estimate.h): the set-point velocity, subsampled to 1 kHz,
+// against the ideal incremental trajectory.
 void EstimateDelay(TransferTrace& tr) {
-  const std::size_t n = tr.t_ref.size();
-  if (n < 3 || tr.t.empty()) return;
-  std::vector<Vector6d> v_ref(n, Vector6d::Zero());
-  for (std::size_t j = 1; j + 1 < n; ++j) {
-    const double span = tr.t_ref[j + 1] - tr.t_ref[j - 1];
-    if (span > 0) v_ref[j] = (tr.ref[j + 1] - tr.ref[j - 1]) / span;
-  }
-  double lin_range = 0, ang_range = 0;
-  for (const Vector6d& r : tr.ref) {
-    lin_range = std::max(lin_range, r.head<3>().norm());
-    ang_range = std::max(ang_range, r.tail<3>().norm());
-  }
-  const int off = lin_range >= 1e-3 || ang_range == 0 ? 0 : 3;
-  std::vector<std::size_t> idx;  // a 1 kHz subsample of the set-point, where the reference exists
+  if (tr.t_ref.empty() || tr.t.empty()) return;
+  std::vector<double> t;
+  std::vector<Vector6d> v;
   for (std::size_t k = 0; k < tr.t.size(); k += 10) {
-    if (tr.t[k] >= tr.t_ref.front() && tr.t[k] <= tr.t_ref.back()) idx.push_back(k);
+    t.push_back(tr.t[k]);
+    v.push_back(tr.velocity[k]);
   }
-  if (idx.empty()) return;
-  double best_cost = std::numeric_limits<double>::infinity(), best_lag = 0;
-  for (int l = 0; l <= 1000; ++l) {
-    const double lag = l * 0.5e-3;
-    double cost = 0;
-    for (std::size_t k : idx) {
-      const Vector6d v = InterpAt(tr.t_ref, v_ref, tr.t[k] - lag);
-      cost += (tr.velocity[k].segment<3>(off) - v.segment<3>(off)).squaredNorm();
-    }
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_lag = lag;
-    }
-  }
-  tr.summary.delay_ms = best_lag * 1e3;
-  tr.summary.delay_rms_residual_mm_s = (off == 0 ? MToMm(1.0) : RadToDeg(1.0)) * std::sqrt(best_cost / idx.size());
   tr.summary.final_tracking_error_mm = MToMm((tr.displacement.back().head<3>() - tr.ref.back().head<3>()).norm());
+  const DelayEstimate e = teleop::EstimateDelay(tr.t_ref, tr.ref, t, v);
+  if (!e.valid) return;
+  tr.summary.delay_ms = e.delay_s * 1e3;
+  tr.summary.delay_rms_residual_mm_s = (e.angular ? RadToDeg(1.0) : MToMm(1.0)) * e.rms_residual;
 }
 
 // Per-tick bookkeeping shared by both chains.

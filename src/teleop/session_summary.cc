@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 #include "src/core/units.h"
+#include "src/teleop/delay_estimate.h"
 
 namespace robossis::teleop {
 
@@ -89,7 +89,8 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
   if (r.took_setpoint && r.setpoint_verdict != SetPointVerdict::kAccepted) {
-    ++rejected_by_verdict_[ToString(r.setpoint_verdict)];
+    const auto v = static_cast<std::size_t>(r.setpoint_verdict);
+    if (v < rejected_by_verdict_.size()) ++rejected_by_verdict_[v];
   }
   min_margin_ = std::min(min_margin_, r.meas_min_margin);
   if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
@@ -132,36 +133,11 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   ++follower_ticks_;
 }
 
-// The lag (0–200 ms, in transfer periods) that best aligns the transfer's filtered set-point velocity with the
-// velocity of the eq. 10–11 displacement (the hand's motion after the dynamic scaling, before any filter): the
-// hand-to-set-point delay of the motion transfer. The linear part, unless the hand only turned.
+// The hand-to-set-point delay of the motion transfer: the transfer's set-point against the eq. 10–11
+// displacement (the hand's motion after the dynamic scaling, before any filter), by the one estimator.
 double SessionSummary::HandToSetPointDelayMs() const {
-  const std::size_t n = t_sent_.size();
-  if (n < 20) return 0;
-  const double dt = (t_sent_.back() - t_sent_.front()) / static_cast<double>(n - 1);
-  double lin = 0, ang = 0;
-  for (const Vector6d& v : ideal_) {
-    lin = std::max(lin, v.head<3>().norm());
-    ang = std::max(ang, v.tail<3>().norm());
-  }
-  const int off = lin >= 1e-3 || ang == 0 ? 0 : 3;
-  const int max_lag = std::min<int>(static_cast<int>(std::lround(0.2 / dt)), static_cast<int>(n) / 2);
-  double best = std::numeric_limits<double>::infinity();
-  int best_lag = 0;
-  for (int lag = 0; lag <= max_lag; ++lag) {
-    double cost = 0;
-    for (std::size_t k = static_cast<std::size_t>(lag) + 1; k < n; ++k) {
-      const Eigen::Vector3d v_sp = (transfer_[k] - transfer_[k - 1]).segment<3>(off);
-      const Eigen::Vector3d v_id = (ideal_[k - lag] - ideal_[k - lag - 1]).segment<3>(off);
-      cost += (v_sp - v_id).squaredNorm();
-    }
-    cost /= static_cast<double>(n - lag - 1);
-    if (cost < best) {
-      best = cost;
-      best_lag = lag;
-    }
-  }
-  return 1e3 * best_lag * dt;
+  const DelayEstimate e = EstimateDelay(t_sent_, ideal_, t_sent_, VelocityOf(t_sent_, transfer_));
+  return e.valid ? 1e3 * e.delay_s : 0.0;
 }
 
 nlohmann::ordered_json SessionSummary::Summary() const {
@@ -194,7 +170,11 @@ nlohmann::ordered_json SessionSummary::Summary() const {
                                                               static_cast<double>(end_.follower_loop_ticks) : 0.0;
   j["setpoints_accepted"] = end_.setpoints_accepted;
   j["setpoints_rejected"] = end_.setpoints_rejected;
-  j["setpoints_rejected_by_verdict"] = rejected_by_verdict_;
+  nlohmann::ordered_json by_verdict = nlohmann::ordered_json::object();
+  for (int v = 1; v < kNumSetPointVerdicts; ++v) {
+    by_verdict[ToString(static_cast<SetPointVerdict>(v))] = rejected_by_verdict_[static_cast<std::size_t>(v)];
+  }
+  j["setpoints_rejected_by_reason"] = by_verdict;  // from the records (as the off-line chain's summary names it)
   j["setpoints_stopped_at_boundary"] = stopped_at_boundary_;
   j["setpoints_ik_rejected"] = end_.ik_rejected;
   j["device_failures"] = end_.device_failures;

@@ -3,6 +3,7 @@
 // reproduces the run's summary exactly): summary.json, leader.csv, follower.csv and the loop-period histograms.
 // Fed one record at a time (the logger thread during a run, the log reader in `robossis replay`); not real-time.
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -62,7 +63,7 @@ class SessionSummary {
   double follower_last_s_ = -1;
   std::map<std::int64_t, std::uint64_t> follower_periods_us_;
   std::uint64_t limit_violations_ = 0;
-  std::map<std::string, std::uint64_t> rejected_by_verdict_;  // set-points the follower refused, by verdict
+  std::array<std::uint64_t, kNumSetPointVerdicts> rejected_by_verdict_{};  // the set-points the follower refused
   double min_margin_ = 1e9;
   std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 100 measured poses (10 ms at 10 kHz)
   std::size_t window_next_ = 0;

@@ -80,7 +80,7 @@ void ExpectNoJump(const nlohmann::json& follower) {
 // The figures RELIABILITY.md's table reports, on one line of the test's output.
 void PrintFigures(const std::string& test_case, const nlohmann::json& follower) {
   std::cout << "figures: " << test_case << ": set-points accepted " << follower["setpoints_accepted"]
-            << ", rejected " << follower["setpoints_rejected"] << " " << follower["setpoints_rejected_by_verdict"].dump()
+            << ", rejected " << follower["setpoints_rejected"] << " " << follower["setpoints_rejected_by_reason"].dump()
             << ", limit violations "
             << follower["follower_limit_violations"] << ", watchdog holds " << follower["watchdog_holds"]
             << ", max speed " << follower["max_follower_speed_mm_s"] << " mm/s "

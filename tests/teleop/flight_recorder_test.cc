@@ -74,6 +74,38 @@ TEST(FlightRecorderTest, RecordsComeBackWithASelfDescribingHeader) {
   std::filesystem::remove(file);
 }
 
+TEST(FlightRecorderTest, FollowerRecordsKeepTheLatencyInstants) {
+  // The end-to-end latency's two instants (the set-point's device-sample stamp, the joint command's time) are in
+  // the follower stream's header with their units and come back from the log.
+  const auto file = TempLog("robossis_fr_follower.rlog");
+  {
+    SessionLogWriter log(file, {}, {LeaderStreamSpec(), FollowerStreamSpec()});  // ids in order
+    for (std::uint64_t k = 0; k < 50; ++k) {
+      FollowerTickRecord r;
+      r.tick = k;
+      r.time_s = 1e-4 * static_cast<double>(k);
+      r.setpoint_stamp_ns = 1000 * static_cast<std::int64_t>(k) - 7;
+      r.command_time_s = r.time_s + 3e-6;
+      log.Append(kFollowerStream, &r);
+    }
+    log.Flush();
+  }
+  const SessionLog log = ReadSessionLog(file);
+  const StreamSpec* s = log.Find("follower");
+  ASSERT_NE(s, nullptr);
+  for (const auto& [name, unit] : {std::pair<std::string, std::string>{"setpoint_stamp_ns", "ns"},
+                                   std::pair<std::string, std::string>{"command_time_s", "s"}}) {
+    const auto f = std::find_if(s->fields.begin(), s->fields.end(), [&](const FieldSpec& x) { return x.name == name; });
+    ASSERT_NE(f, s->fields.end()) << name;
+    EXPECT_EQ(f->unit, unit);
+  }
+  const std::vector<FollowerTickRecord> back = log.Decode<FollowerTickRecord>("follower", FollowerStreamSpec());
+  ASSERT_EQ(back.size(), 50u);
+  EXPECT_EQ(back[9].setpoint_stamp_ns, 8993);
+  EXPECT_DOUBLE_EQ(back[9].command_time_s, 9e-4 + 3e-6);
+  std::filesystem::remove(file);
+}
+
 TEST(FlightRecorderTest, ALogCutShortKeepsEverythingBeforeTheCut) {
   const auto file = TempLog("robossis_fr_cut.rlog");
   {

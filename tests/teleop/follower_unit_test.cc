@@ -267,6 +267,26 @@ TEST_F(FollowerUnitTest, PublishesStatusAndRecordsEveryTick) {
   EXPECT_GE(unit_.counters().status_published, 49u);  // 1 kHz over 50 ms
 }
 
+TEST_F(FollowerUnitTest, RecordsTheStampOfTheSetPointItUsedAndWhenItCommanded) {
+  // The latency's two instants: the device-sample stamp of the newest valid set-point, and the command time.
+  EnableAndFollow();
+  FollowerTickRecord r;
+  while (unit_.TakeRecord(r)) {
+  }
+  Run(0.0105);  // ten leader periods and half a tick-period more
+  int accepted = 0;
+  while (unit_.TakeRecord(r)) {
+    if (r.took_setpoint && r.setpoint_verdict == SetPointVerdict::kAccepted) {
+      ++accepted;
+      EXPECT_EQ(r.setpoint_stamp_ns, std::llround(r.time_s * 1e9));  // sent this very tick (the script's leader)
+    }
+    EXPECT_GE(r.setpoint_stamp_ns, 0);
+    EXPECT_LE(1e-9 * static_cast<double>(r.setpoint_stamp_ns), r.time_s);
+    EXPECT_EQ(r.command_time_s, r.time_s);  // the simulated clock stands still within a tick
+  }
+  EXPECT_EQ(accepted, 10);
+}
+
 TEST_F(FollowerUnitTest, TickAllocatesNothing) {
   Command(StateCommand::kEnable);
   Run(0.01);

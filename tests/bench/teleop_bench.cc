@@ -1,0 +1,229 @@
+// End-to-end latency of the teleoperation runtime: hand sample → follower joint command (see BENCHMARKS.md).
+//
+// The two instants compared, for every set-point the follower used:
+//   A  the device sample's own time: SetPointMessage::stamp_ns, which the leader copies from the device reading
+//      (DeviceState::time_s) it read in the tick that produced the set-point (for the simulated device, the leader
+//      clock at that tick's device read);
+//   B  FollowerTickRecord::command_time_s of the follower tick that first commanded joints from that set-point:
+//      the tick that took it from the link and accepted it while following (state enabled), read on the same clock
+//      right after the joint command went to the back end.
+// Latency = B − A. It holds the leader's tick after the read (rendering, motion transfer, IK check, send), the wait
+// for the next 10 kHz follower tick (≤ 100 µs) and the follower's tick up to the command (validation, state
+// machine, guard, actuation eq. 15–17). It excludes the motion transfer's filter delay (up-sampling, moving
+// average, Kalman eq. 12, cap guard: how far the set-point's motion lags the hand's), which is a property of the
+// signal, not of the runtime; BM_TransferFilterDelay measures it apart, in simulated time, with a ramp of the hand
+// (a step in velocity): at steady state the set-point lags the eq. 10–11 goal by a constant time.
+//
+// The runtime is wired as `robossis teleop --device sim --clock real` wires it (the simulated sigma.7 and its hand,
+// the leader unit at 1 kHz and the follower unit at 10 kHz on their own threads on absolute deadlines through
+// rt::RunRealTime, the in-process link, one clock for both); the follower's back end is the pulse recorder (arg 0)
+// or the Bullet simulation (arg 1). Budgets: the leader's 1 ms tick, and the 50 ms hand-to-set-point goal.
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "haptics/device/device_factory.h"
+#include "haptics/rendering/renderer_factory.h"
+#include "haptics/transfer/motion_transfer.h"
+#include "robot/actuation/pulse_recorder_follower.h"
+#include "robot/sim/rsr_simulation.h"
+#include "src/core/config.h"
+#include "src/core/rt/periodic_loop.h"
+#include "src/teleop/delay_estimate.h"
+#include "src/teleop/follower_unit.h"
+#include "src/teleop/in_process_link.h"
+#include "src/teleop/leader_unit.h"
+#include "src/teleop/teleop_session.h"
+
+namespace {
+
+using namespace robossis;
+using namespace robossis::teleop;
+
+double Percentile(std::vector<double>& v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+
+const TeleopSetup& Setup() {
+  static const robot::RsrModel rsr = robot::RsrModel::Default();
+  static const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
+  static const TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), rsr, sigma7);
+  return setup;
+}
+
+class FollowerTask final : public rt::PeriodicTask {
+ public:
+  explicit FollowerTask(FollowerUnit& unit) : unit_(unit) {}
+  void Tick(std::int64_t) noexcept override { unit_.Tick(); }
+
+ private:
+  FollowerUnit& unit_;
+};
+
+// Hand sample → follower joint command on real clocks: 1 kHz leader, 10 kHz follower, `duration_s` per iteration.
+void BM_HandToJointCommandLatency(benchmark::State& state) {
+  const TeleopSetup& setup = Setup();
+  const robot::RsrModel& rsr = *setup.rsr;
+  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
+  const double duration_s = 5.0;
+  const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
+  std::vector<double> latency_us, follower_part_us, wait_us;  // wait: sample → the follower tick's start
+  std::uint64_t leader_overruns = 0, follower_overruns = 0, used = 0, realtime_refused = 0;
+  for (auto _ : state) {
+    rt::MonotonicClock clock;
+    InProcessLink link(clock);
+    std::unique_ptr<robot::Follower> back_end;
+    if (state.range(0) == 1) {
+      sim::SimOptions options;
+      options.with_bone = false;
+      options.with_traction = false;
+      back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+    } else {
+      const auto n = static_cast<std::size_t>(duration_s * follower_rate_hz + 1000.0);
+      back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
+    }
+    FollowerUnit follower(rsr, setup.actuation, setup.follower, *back_end, link, clock);
+    FollowerTask follower_task(follower);
+    LeaderConfig leader_config = setup.leader;
+    leader_config.rate_hz = 1000;
+    haptics::DeviceScriptOptions script = leader_config.sim_script;
+    script.replay_scale = setup.transfer.mapping.translation_scale;
+    auto device = haptics::MakeDevice("sim", *setup.sigma7, setup.haptics, leader_config.device, script);
+    device->EnableForces(true);
+    auto renderer = haptics::MakeRenderer("proxy-safe", setup.haptics, rsr, haptics::HcToRsrMap{}, 1000, nullptr,
+                                          haptics::BackgroundWork::kThread);
+    LeaderUnit leader(leader_config, setup.transfer, rsr, *device, *renderer, link, home, std::random_device{}());
+    StateCommandMessage enable;
+    enable.command = StateCommand::kEnable;
+    enable.sequence = 1;
+    link.operator_commands().Send(enable);
+
+    std::vector<FollowerTickRecord> records;
+    records.reserve(static_cast<std::size_t>(duration_s * follower_rate_hz * 1.2));
+    const auto drain = [&](double) {
+      LeaderTickRecord l;
+      while (leader.records().TryPop(l)) {
+      }
+      FollowerTickRecord f;
+      while (follower.TakeRecord(f)) records.push_back(f);
+      return true;
+    };
+    rt::LoopOptions leader_loop, follower_loop;
+    leader_loop.name = "leader";
+    leader_loop.period_ns = 1'000'000;
+    follower_loop.name = "follower";
+    follower_loop.period_ns = std::llround(1e9 / follower_rate_hz);
+    follower_loop.fifo_priority = 81;
+    const rt::RunResult run = rt::RunRealTime(
+        clock, {{&leader, leader_loop}, {&follower_task, follower_loop}}, duration_s, drain);
+    drain(0);
+    realtime_refused += run.warnings.size();
+    leader_overruns += run.stats[0].overruns;
+    follower_overruns += run.stats[1].overruns;
+    for (const FollowerTickRecord& r : records) {
+      if (!r.took_setpoint || r.setpoint_verdict != SetPointVerdict::kAccepted) continue;
+      if (r.state != OperatingState::kEnabled) continue;  // joints commanded from the set-point only when following
+      const double a_s = 1e-9 * static_cast<double>(r.setpoint_stamp_ns);
+      latency_us.push_back(1e6 * (r.command_time_s - a_s));
+      follower_part_us.push_back(1e6 * (r.command_time_s - r.time_s));
+      wait_us.push_back(1e6 * (r.time_s - a_s));
+      ++used;
+    }
+  }
+  const double p50 = Percentile(latency_us, 0.50), p99 = Percentile(latency_us, 0.99);
+  state.counters["setpoints_used"] = static_cast<double>(used);
+  state.counters["latency_p50_us"] = p50;
+  state.counters["latency_p99_us"] = p99;
+  state.counters["latency_max_us"] = latency_us.empty() ? 0 : latency_us.back();
+  state.counters["p99_over_1ms_tick"] = p99 / 1000.0;
+  state.counters["p99_over_50ms_goal"] = p99 / 50000.0;
+  state.counters["follower_tick_to_command_p99_us"] = Percentile(follower_part_us, 0.99);
+  state.counters["sample_to_follower_tick_p50_us"] = Percentile(wait_us, 0.50);
+  state.counters["sample_to_follower_tick_p01_us"] = Percentile(wait_us, 0.01);
+  state.counters["leader_overruns"] = static_cast<double>(leader_overruns);
+  state.counters["realtime_warnings"] = static_cast<double>(realtime_refused);  // SCHED_FIFO or mlockall refused
+  state.counters["follower_overruns"] = static_cast<double>(follower_overruns);
+}
+BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The motion transfer's filter delay, apart: the hand rests for 0.5 s, then moves at constant speed (a step in
+// velocity), through the leader's own use of the transfer (one sample per 1 kHz tick, then ten 10 kHz actuation
+// ticks, then the set-point is read), in simulated time. filter_delay_ms: the one delay estimator
+// (src/teleop/delay_estimate.h, as summary.json's hand_to_setpoint_delay_ms) between the eq. 10–11 goal and the
+// set-point; for a step it is the filters' centroid delay. ramp_position_lag_ms: at steady state, how far the
+// set-point's position trails the goal's, in time at that speed (the delay plus any constant offset the filters
+// leave). velocity_50pct_delay_ms: from the goal's velocity reaching half its final speed to the set-point's;
+// velocity_overshoot: the set-point's peak speed over the final one, minus 1. Arg 1: the goal's speed in % of the
+// linear cap (below it, so that the cap's rate limiting plays no part).
+void BM_TransferFilterDelay(benchmark::State& state) {
+  const TeleopSetup& setup = Setup();
+  const Eigen::Isometry3d home = setup.rsr->geometry().X_FM_home;
+  const double fraction = 0.01 * static_cast<double>(state.range(0));
+  const int ratio = static_cast<int>(std::lround(setup.transfer.rates.actuation_rate_hz / 1000.0));
+  DelayEstimate estimate;
+  double lag_ms = 0, rise_ms = 0, overshoot = 0;
+  // Arg 2: the filters' share, one at a time: 0 as shipped, 1 without the Kalman filter (eq. 12), 2 without the
+  // moving average, 3 without either (the cap guard's position feedback alone).
+  transfer::TransferConfig config = setup.transfer;
+  const int variant = static_cast<int>(state.range(1));
+  if (variant & 1) config.filter.kalman_enabled = false;
+  if (variant & 2) config.filter.moving_average_window = 1;
+  for (auto _ : state) {
+    transfer::MotionTransfer mt(config, home);
+    mt.SetClutch(true);
+    // The hand's speed such that the goal moves at `fraction` of the cap (eq. 11 scales the hand's motion).
+    const double v_hand = fraction * setup.transfer.caps.max_linear_speed_m_s / setup.transfer.mapping.translation_scale;
+    std::vector<double> t;
+    std::vector<Vector6d> goal, disp;
+    for (int k = 0; k < 3000; ++k) {
+      transfer::HcSample s;
+      s.time_s = 1e-3 * k;
+      s.p_OH = Eigen::Vector3d(v_hand * std::max(0.0, s.time_s - 0.5), 0, 0);
+      mt.PushHcSample(s);
+      mt.TransferTick();
+      for (int j = 0; j < ratio; ++j) mt.ActuationTick();
+      t.push_back(s.time_s);
+      goal.push_back(mt.tick_info().goal);
+      disp.push_back(mt.set_point().displacement);
+    }
+    estimate = EstimateDelay(t, goal, t, VelocityOf(t, disp));
+    const std::size_t n = t.size();
+    const double v_goal = (goal[n - 1] - goal[n - 2]).head<3>().norm() / 1e-3;
+    lag_ms = v_goal > 0 ? 1e3 * (goal[n - 1] - disp[n - 1]).head<3>().norm() / v_goal : 0;
+    // The step's 50 % point: the goal's velocity, then the set-point's, first at half the final speed.
+    const std::vector<Vector6d> v_set = VelocityOf(t, disp), v_goal_series = VelocityOf(t, goal);
+    const auto first_half = [&](const std::vector<Vector6d>& v) {
+      for (std::size_t k = 0; k < n; ++k) {
+        if (v[k].head<3>().norm() >= 0.5 * v_goal) return t[k];
+      }
+      return t.back();
+    };
+    rise_ms = 1e3 * (first_half(v_set) - first_half(v_goal_series));
+    overshoot = 0;
+    for (const Vector6d& v : v_set) overshoot = std::max(overshoot, v.head<3>().norm() / v_goal - 1.0);
+    benchmark::DoNotOptimize(lag_ms);
+  }
+  state.counters["filter_delay_ms"] = 1e3 * estimate.delay_s;
+  state.counters["delay_over_50ms_goal"] = 1e3 * estimate.delay_s / 50.0;
+  state.counters["ramp_position_lag_ms"] = lag_ms;
+  state.counters["velocity_50pct_delay_ms"] = rise_ms;
+  state.counters["velocity_overshoot"] = overshoot;
+}
+BENCHMARK(BM_TransferFilterDelay)
+    ->Args({20, 0})
+    ->Args({50, 0})
+    ->Args({90, 0})
+    ->Args({50, 1})
+    ->Args({50, 2})
+    ->Args({50, 3})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace

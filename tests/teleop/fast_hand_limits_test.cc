@@ -1,0 +1,61 @@
+// The fast hand (up to 250 mm/s, ±60°) at the shipped caps, not raised ones: the demonstration's 10 mm/s and
+// 1°/s (transfer.yaml) and the clinical 2 mm/s and 0.2°/s (ClinicalSpeedCaps). Eq. 11 scales the hand down to the
+// caps, so the set-point moves 25x to 125x slower than the hand: no joint limit is crossed, the follower follows
+// at (not above) the cap, and the hand-to-set-point delay stays within the 50 ms goal.
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "src/core/units.h"
+#include "src/teleop/teleop_session.h"
+#include "tests/teleop/teleop_fixture.h"
+
+namespace robossis::teleop {
+namespace {
+
+using namespace testing;
+
+struct CapsCase {
+  const char* name;
+  bool clinical;
+  const char* method;
+};
+
+class FastHandAtShippedCaps : public ::testing::TestWithParam<CapsCase> {};
+
+TEST_P(FastHandAtShippedCaps, StaysInsideFollowsAtTheCapAndKeepsTheDelay) {
+  const CapsCase c = GetParam();
+  TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  if (c.clinical) setup.transfer.caps = transfer::ClinicalSpeedCaps();
+  setup.follower.setpoint.caps = setup.transfer.caps;  // the validator's caps are the transfer's
+  TeleopRequest r;
+  r.device = "replay:" + FastHand().string();
+  r.method = c.method;
+  r.follower = "recorder";
+  r.duration_s = 20;
+  if (r.method.rfind("mesh", 0) == 0) r.atlas = CoarseAtlas();
+  const auto log = std::filesystem::temp_directory_path() / (std::string("robossis_shipped_caps_") + c.name + ".rlog");
+  const TeleopOutputs out = RunTeleop(r, setup, log);
+  std::filesystem::remove(log);
+  const auto& s = out.summary;
+  const double cap_mm_s = MToMm(setup.transfer.caps.max_linear_speed_m_s);
+  RecordProperty("hand_to_setpoint_delay_ms", std::to_string(s["hand_to_setpoint_delay_ms"].get<double>()));
+  RecordProperty("setpoints_stopped_at_boundary", std::to_string(s["setpoints_stopped_at_boundary"].get<double>()));
+  EXPECT_TRUE(s["complete"].get<bool>());
+  EXPECT_EQ(s["follower_limit_violations"], 0);
+  EXPECT_EQ(s["nonfinite_outputs"], 0);
+  EXPECT_GE(s["max_hand_speed_mm_s"].get<double>(), 150.0);  // the hand is 15x to 125x faster than the cap
+  EXPECT_GT(s["max_follower_speed_mm_s"].get<double>(), 0.5 * cap_mm_s);  // the follower followed ...
+  EXPECT_LE(s["max_follower_speed_mm_s"].get<double>(), 1.05 * cap_mm_s);  // ... never faster than the cap
+  EXPECT_LE(s["hand_to_setpoint_delay_ms"].get<double>(), 50.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Caps, FastHandAtShippedCaps,
+                         ::testing::Values(CapsCase{"demonstration", false, "proxy-safe"},
+                                           CapsCase{"clinical", true, "proxy-safe"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace robossis::teleop
