@@ -181,8 +181,11 @@ void FollowerUnit::Tick() noexcept {
   if (dt > 0) twist_cmd_ = moved / dt;  // a tick without elapsed time (a clock that did not advance) keeps it
   X_cmd_ = guarded.X_FM;
 
-  // 5. Actuation (eq. 15–17) and the back end.
-  const actuation::ActuationOutput& out = actuator_.Tick(now, X_cmd_, twist_cmd_);
+  // 5. Actuation (eq. 15–17) and the back end. Unpowered, no pulses are made (the drives are off: pulses made now
+  // would be counted as motion the motors never did) and the commanded pose follows the measured one, so that
+  // powering up again starts from where the robot is, without a jump.
+  const actuation::ActuationOutput& out =
+      machine_.powered() ? actuator_.Tick(now, X_cmd_, twist_cmd_) : actuator_.output();
   rec.command_time_s = now;
   if (machine_.powered()) {
     back_end_.Command(out.command);
@@ -192,6 +195,10 @@ void FollowerUnit::Tick() noexcept {
   const robot::RsrFollowerState measured = back_end_.State();
   const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, measured.X_FM);
   if (!ik.feasible) ++counters_.limit_violations;
+  if (!machine_.powered() && ik.feasible) {
+    X_cmd_ = measured.X_FM;
+    twist_cmd_.setZero();
+  }
 
   // 6. Status (decimated) and the record.
   if (now >= next_status_s_) {

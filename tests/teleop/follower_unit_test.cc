@@ -90,6 +90,55 @@ TEST_F(FollowerUnitTest, FollowsTheSetPointsOnceEnabled) {
   EXPECT_GT(back_end_.events().size(), 0u);  // the pulse recorder recorded the steps of the motion
 }
 
+TEST_F(FollowerUnitTest, PoweringUpAgainStartsFromWhereTheMotorsAre) {
+  // Caps above what the step rate can do (100 mm/s along z): the motors lag the commanded pose. After a disable,
+  // the next enable must start from the motors' pose, not catch up with the old command in one burst of steps.
+  FollowerConfig fast = config_;
+  fast.setpoint.caps.max_linear_speed_m_s = 0.1;
+  fast.setpoint.max_linear_accel_m_s2 = 100;
+  InProcessLink link(clock_);
+  actuation::PulseRecorderFollower back_end(model_, actuation_, home_, 1 << 20, 1 << 20);
+  FollowerUnit unit(model_, actuation_, fast, back_end, link, clock_);
+  std::uint64_t seq = 0;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  const auto run = [&](double seconds, const Eigen::Vector3d& velocity, double* max_jump) {
+    for (int i = 0; i < static_cast<int>(std::llround(seconds * 1e4)); ++i) {
+      clock_.AdvanceNs(kTickNs);
+      if (i % 10 == 0) {
+        offset += 1e-3 * velocity;
+        const Eigen::Vector3d p = home_.translation() + offset;
+        SetPointMessage m;
+        m.sequence = ++seq;
+        m.leader_session = 1;
+        m.stamp_ns = clock_.now_ns();
+        m.p_FM = {p.x(), p.y(), p.z()};
+        m.twist_F = {velocity.x(), velocity.y(), velocity.z(), 0, 0, 0};
+        m.flags = kSetPointPresence;
+        link.SendSetPoint(m);
+      }
+      const Eigen::Vector3d before = back_end.State().X_FM.translation();
+      unit.Tick();
+      if (max_jump) *max_jump = std::max(*max_jump, (back_end.State().X_FM.translation() - before).norm());
+    }
+  };
+  StateCommandMessage c;
+  c.command = StateCommand::kEnable;
+  ASSERT_TRUE(link.operator_commands().Send(c));
+  run(0.3, Eigen::Vector3d(0, 0, 0.1), nullptr);
+  ASSERT_EQ(unit.state(), OperatingState::kEnabled);
+  c.command = StateCommand::kDisable;
+  ASSERT_TRUE(link.operator_commands().Send(c));
+  run(0.2, Eigen::Vector3d::Zero(), nullptr);
+  EXPECT_LT((unit.commanded_pose().translation() - back_end.State().X_FM.translation()).norm(), 1e-6);
+  c.command = StateCommand::kEnable;
+  ASSERT_TRUE(link.operator_commands().Send(c));
+  double max_jump = 0;
+  run(0.3, Eigen::Vector3d::Zero(), &max_jump);
+  EXPECT_EQ(unit.state(), OperatingState::kEnabled);
+  // At most one tick at the cap (10 um at 100 mm/s), with room for the motors' step quantisation.
+  EXPECT_LE(max_jump, 0.1 * 1e-4 * 1.5);
+}
+
 TEST_F(FollowerUnitTest, AStalledTickLagsInsteadOfJumping) {
   EnableAndFollow();
   Run(0.2);
