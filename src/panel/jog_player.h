@@ -34,6 +34,14 @@ class JogPlayer {
   // Haptic-mode presence: with no device the hand is still, so it holds the pose with presence (and the clutch).
   void SetHaptic(bool enabled, bool clutched) noexcept;
 
+  // Another leader sent the set-points for a while (the panel's haptic mode): the next set-points start from the
+  // follower's next status, in a new leader session, with no move running.
+  void Resync() noexcept {
+    move_.reset();
+    has_status_ = false;
+    synced_ = false;
+  }
+
   // One leader tick: takes the newest follower status and sends one set-point.
   void Tick() noexcept;
 

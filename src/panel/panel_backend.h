@@ -23,6 +23,7 @@ struct LoopHealth {
   double last_jitter_s = 0;          // the last period's
   std::uint64_t ticks = 0;
   std::uint64_t overruns = 0;        // ticks that missed their deadline
+  std::uint64_t leader_overruns = 0; // the same for the leader side's loop (the 1 kHz set-points), where there is one
   double setpoint_age_s = -1;        // time since the last set-point was consumed; < 0: none yet
   std::uint64_t watchdog_holds = 0;  // holds because the set-points went stale
 };

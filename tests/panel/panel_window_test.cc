@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -141,6 +142,48 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
   EXPECT_EQ(run.json["haptic"]["method"], "proxy");
   EXPECT_TRUE(run.json["haptic"]["clutched"].get<bool>());
+}
+
+// Haptic mode with the simulated sigma.7: a jog takes the robot to 9 mm below the nearest wall (71 mm above home),
+// then in haptic mode the hand (a replay script, the RSR pose it commands) pushes on up, beyond the wall, as far as
+// the sigma.7's handle travels; the panel shows the rendered force on the hand and the robot stops at the wall.
+// The demonstration caps are chosen while clutched, so the robot follows the hand within the run.
+TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
+  const auto dir = TestDir("haptic_wall");
+  const robossis::robot::RsrModel model =
+      robossis::robot::RsrModel::FromYaml(robossis::DefaultDataDir() / "config" / "rsr.yaml");
+  const Eigen::Vector3d home = model.geometry().X_FM_home.translation();
+  const std::filesystem::path hand = dir / "wall_push.csv";
+  {
+    std::ofstream out(hand);
+    out << "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
+    for (int k = 0; k <= 100; ++k) {  // 10 s: 9 mm/s up for 5 s, then held there
+      const double t = 0.1 * k;
+      out << t << "," << robossis::MToMm(home.x()) << "," << robossis::MToMm(home.y()) << ","
+          << robossis::MToMm(home.z()) + 9.0 * std::min(t, 5.0) << ",0,0,0\n";
+    }
+  }
+  const PanelRun run = RunPanel(dir,
+                                "0.2 click home\n"
+                                "0.8 set jog.axis z\n"
+                                "0.8 set jog.amount 62\n"
+                                "0.8 set jog.duration_s 10\n"
+                                "0.9 click jog.go\n"
+                                "11.5 click haptic.on\n"
+                                "11.5 click haptic.clutch\n"
+                                "11.6 set haptic.caps demonstration\n"
+                                "11.7 click haptic.unclutch\n"
+                                "16.0 quit\n",
+                                "--no-slice --no-bone --device replay:" + hand.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
+  EXPECT_TRUE(run.json["haptic"]["enabled"].get<bool>());
+  EXPECT_FALSE(run.json["haptic"]["clutched"].get<bool>());
+  EXPECT_EQ(run.json["state"], "enabled");
+  EXPECT_GT(run.json["haptic"]["max_hand_force_n"].get<double>(), 1.0) << run.output;
+  const double z_mm = run.json["pose_mm_deg"][2].get<double>() - robossis::MToMm(home.z());
+  EXPECT_GT(z_mm, 63.0);  // it followed the hand up from the jog's end ...
+  EXPECT_LT(z_mm, 71.5);  // ... and stopped at the wall
 }
 
 TEST(PanelWindow, AnUnknownScriptActionIsAnErrorNamingTheLine) {

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -271,7 +272,8 @@ void DrawControls(panel::PanelController& panel, float height) {
   ImGui::Text("loop %.0f Hz, ticks %llu", health.period_s > 0 ? 1 / health.period_s : 0.0,
               static_cast<unsigned long long>(health.ticks));
   ImGui::Text("period jitter: last %.3f ms, max %.3f ms", 1e3 * health.last_jitter_s, 1e3 * health.max_jitter_s);
-  ImGui::Text("overruns: %llu   watchdog holds: %llu", static_cast<unsigned long long>(health.overruns),
+  ImGui::Text("overruns: %llu (leader %llu)   watchdog holds: %llu", static_cast<unsigned long long>(health.overruns),
+              static_cast<unsigned long long>(health.leader_overruns),
               static_cast<unsigned long long>(health.watchdog_holds));
   if (health.setpoint_age_s < 0)
     ImGui::Text("set-point age: none yet");
@@ -329,6 +331,14 @@ void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, flo
   ImGui::End();
 }
 
+panel::HapticModeModel InitialHapticMode(const PanelModels& models) {
+  panel::HapticModeModel mode(haptics::KnownMethods(), models.demonstration_caps);
+  std::string reason;
+  if (!models.default_method.empty() && !mode.SetMethod(models.default_method, reason))
+    throw std::runtime_error("panel: default rendering method: " + reason);
+  return mode;
+}
+
 double Percentile(std::vector<double> values, double q) {
   if (values.empty()) return 0;
   const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(q * (values.size() - 1) + 0.5));
@@ -362,8 +372,7 @@ void SaveFramebufferPng(const std::string& path, int width, int height) {
 struct PanelWindow::Impl {
   Impl(panel::PanelBackend& backend, const PanelModels& models, const PanelWindowOptions& options)
       : options(options),
-        controller(backend, models.rsr, models.config,
-                   panel::HapticModeModel(haptics::KnownMethods(), models.demonstration_caps)),
+        controller(backend, models.rsr, models.config, InitialHapticMode(models)),
         session(options.width_px, options.height_px, options.vsync),
         script(options.script),
         start(std::chrono::steady_clock::now()) {
@@ -387,8 +396,10 @@ struct PanelWindow::Impl {
   panel::ScriptPlayer script;
   std::chrono::steady_clock::time_point start;
   std::vector<double> frame_ms;
+  std::array<std::vector<double>, kFramePhases> phase_ms;  // where each frame's time went (FramePhase)
   std::vector<std::string> screenshots;
   long frames = 0;
+  double max_hand_force_n = 0;
   bool done = false;
 };
 
@@ -418,6 +429,9 @@ bool PanelWindow::Frame() {
     }
   }
   m.controller.Update(now_s);
+  const auto update_end = std::chrono::steady_clock::now();
+  const panel::HandWrench& wrench = m.controller.wrench();
+  m.max_hand_force_n = std::max(m.max_hand_force_n, std::hypot(wrench.force_n[0], wrench.force_n[1], wrench.force_n[2]));
   if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F);
 
   ImGui_ImplOpenGL3_NewFrame();
@@ -432,10 +446,13 @@ bool PanelWindow::Frame() {
   DrawRobotWindow(m.controller, m.scene, 380, w - 380 - numbers_width, h);
   DrawNumbers(m.controller, w - numbers_width, numbers_width, h);
   ImGui::Render();
+  const auto layout_end = std::chrono::steady_clock::now();
   glViewport(0, 0, width, height);
   glClearColor(0.1f, 0.1f, 0.12f, 1);
   glClear(GL_COLOR_BUFFER_BIT);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  glFinish();  // the rasterisation, apart from the present below
+  const auto raster_end = std::chrono::steady_clock::now();
   ++m.frames;
   const bool last = quit || (m.options.max_frames > 0 && m.frames >= m.options.max_frames);
   if (last && !m.options.screenshot_path.empty()) screenshots_due.push_back(m.options.screenshot_path);
@@ -445,7 +462,13 @@ bool PanelWindow::Frame() {
   }
   glfwSwapBuffers(m.session.window);
   glFinish();  // the frame is on screen: the time below includes the software renderer's work
-  m.frame_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start).count());
+  const auto frame_end = std::chrono::steady_clock::now();
+  const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+  m.frame_ms.push_back(ms(frame_start, frame_end));
+  m.phase_ms[static_cast<int>(FramePhase::kUpdate)].push_back(ms(frame_start, update_end));
+  m.phase_ms[static_cast<int>(FramePhase::kLayout)].push_back(ms(update_end, layout_end));
+  m.phase_ms[static_cast<int>(FramePhase::kRaster)].push_back(ms(layout_end, raster_end));
+  m.phase_ms[static_cast<int>(FramePhase::kPresent)].push_back(ms(raster_end, frame_end));
   m.done = last;
   return !last;
 }
@@ -459,12 +482,14 @@ PanelRunResult PanelWindow::Result() const {
   result.frame_p50_ms = Percentile(m.frame_ms, 0.50);
   result.frame_p99_ms = Percentile(m.frame_ms, 0.99);
   result.frame_max_ms = m.frame_ms.empty() ? 0 : *std::max_element(m.frame_ms.begin(), m.frame_ms.end());
+  for (int i = 0; i < kFramePhases; ++i) result.phase_p50_ms[i] = Percentile(m.phase_ms[i], 0.50);
   result.message = m.controller.message();
   result.last_fault = m.controller.last_fault();
   result.haptic_enabled = m.controller.haptic().enabled();
   result.clutched = m.controller.haptic().clutched();
   result.cap_preset = panel::ToString(m.controller.haptic().cap_preset());
   result.rendering_method = m.controller.haptic().method();
+  result.max_hand_force_n = m.max_hand_force_n;
   return result;
 }
 
