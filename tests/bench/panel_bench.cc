@@ -78,6 +78,7 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
   state.counters["layout_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kLayout)];
   state.counters["raster_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kRaster)];
   state.counters["present_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kPresent)];
+  state.counters["triangles"] = static_cast<double>(result.last_frame_triangles);
   backend.Stop();
 }
 
