@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -184,6 +185,20 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   const double z_mm = run.json["pose_mm_deg"][2].get<double>() - robossis::MToMm(home.z());
   EXPECT_GT(z_mm, 63.0);  // it followed the hand up from the jog's end ...
   EXPECT_LT(z_mm, 71.5);  // ... and stopped at the wall
+}
+
+// `--link dds`: the panel joins the link as its own participant (here --insecure, on a domain of this process, with
+// no follower on it): it shows no status, its E-stop is still queued to the link, and haptic mode is refused
+// because the panel may not publish set-points. (The exchange with a follower unit: panel_dds_test.)
+TEST(PanelWindow, OverTheDdsLinkThePanelCommandsButRefusesHapticMode) {
+  const auto dir = TestDir("dds");
+  const PanelRun run = RunPanel(dir, "0.3 click estop\n0.5 click haptic.on\n1.0 quit\n",
+                                "--no-slice --no-bone --link dds --insecure --domain " +
+                                    std::to_string(1 + getpid() % 200));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.json["link"], "dds");
+  EXPECT_FALSE(run.json["haptic"]["enabled"].get<bool>());
+  EXPECT_NE(run.json["message"].get<std::string>().find("set-points"), std::string::npos) << run.output;
 }
 
 TEST(PanelWindow, AnUnknownScriptActionIsAnErrorNamingTheLine) {

@@ -1,7 +1,9 @@
 // robossis panel: the control panel window over the panel's own session: the follower unit over the Bullet RSR
-// and, in haptic mode, the leader unit with a haptic device (the simulated sigma.7 unless --device says otherwise).
+// and, in haptic mode, the leader unit with a haptic device (the simulated sigma.7 unless --device says otherwise);
+// or, with --link dds, a remote follower over the two-machine link with the panel's credentials.
 
 #include <iostream>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
@@ -10,9 +12,11 @@
 #include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
 #include "src/apps/app_context.h"
+#include "src/apps/link_cli.h"
 #include "src/apps/panel/panel_window.h"
 #include "src/core/rt/clock.h"
 #include "src/core/units.h"
+#include "src/panel/dds_follower_backend.h"
 #include "src/panel/simulated_follower_backend.h"
 #include "src/panel/view_model.h"
 #include "src/teleop/follower_config.h"
@@ -55,6 +59,8 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     bool no_slice = false;
     bool json = false;
     std::string device = "sim";
+    std::string link_kind = "sim";
+    link::LinkOptions link_options;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -72,6 +78,11 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-slice", options->no_slice, "Do not draw the live workspace slice");
   cmd->add_option("--device", options->device,
                   "Haptic device of haptic mode: sim (the simulated sigma.7, default), replay:FILE.csv, dhd[:...]");
+  cmd->add_option("--link", options->link_kind,
+                  "sim: the panel's own in-process session (default); dds: a remote follower over the link, with the "
+                  "panel's credentials (state commands only)")
+      ->check(CLI::IsMember({"sim", "dds"}));
+  AddLinkOptions(*cmd, options->link_options);
   cmd->add_flag("--json", options->json, "Print the final follower status and the frame times as JSON");
   cmd->callback([options, &context] {
     const PanelModels models = LoadPanelModels(context, !options->no_bone);
@@ -89,21 +100,31 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(context.data_dir, models.rsr, models.hc);
     const panel::JogLimits limits = LoadJogLimits(context, models);
     const rt::MonotonicClock clock;
-    panel::SimulatedFollowerBackend backend(models.rsr, setup.sim, models.config.sim_with_gravity, setup.follower,
-                                            setup.actuation, limits, models.config.sim_loop_rate_hz, clock);
-    try {
-      backend.AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device, nullptr});
-    } catch (const std::exception& e) {
-      throw std::runtime_error(std::string("--device: ") + e.what());
+    std::unique_ptr<panel::PanelBackend> backend;
+    if (options->link_kind == "dds") {
+      CheckLinkOptions(options->link_options, std::cerr);
+      options->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
+      backend = std::make_unique<panel::DdsFollowerBackend>(options->link_options);
+    } else {
+      auto simulated = std::make_unique<panel::SimulatedFollowerBackend>(
+          models.rsr, setup.sim, models.config.sim_with_gravity, setup.follower, setup.actuation, limits,
+          models.config.sim_loop_rate_hz, clock);
+      try {
+        simulated->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
+                                       nullptr});
+      } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("--device: ") + e.what());
+      }
+      simulated->Start();
+      backend = std::move(simulated);
     }
-    backend.Start();
-    const PanelRunResult result = RunPanelWindow(backend, models, window);
-    backend.Stop();
+    const PanelRunResult result = RunPanelWindow(*backend, models, window);
+    if (auto* simulated = dynamic_cast<panel::SimulatedFollowerBackend*>(backend.get())) simulated->Stop();
     if (!options->json) return;
     teleop::FollowerStatusMessage status;
-    backend.ReadStatus(status);
+    backend->ReadStatus(status);
     panel::LoopHealth health;
-    backend.ReadHealth(health);
+    backend->ReadHealth(health);
     const panel::PanelViewModel view = panel::BuildViewModel(models.rsr, status);
     nlohmann::ordered_json out;
     out["frames"] = result.frames;
@@ -116,6 +137,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     out["haptic"] = {{"enabled", result.haptic_enabled}, {"clutched", result.clutched},
                      {"caps", result.cap_preset}, {"method", result.rendering_method},
                      {"max_hand_force_n", result.max_hand_force_n}, {"device", options->device}};
+    out["link"] = options->link_kind;
     out["state"] = view.state_name;
     out["fault_reason"] = teleop::ToString(status.fault_reason);
     out["pose_mm_deg"] = view.pose_mm_deg;

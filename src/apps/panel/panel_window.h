@@ -1,8 +1,8 @@
 #pragma once
 // The control panel's window (paper Fig. 13): Dear ImGui on GLFW and OpenGL 3, drawing a PanelController over any
-// PanelBackend. `robossis panel` runs it over the panel's simulated follower; `robossis teleop --panel` runs it over
-// the in-process teleoperation runtime. The window thread only reads snapshots and queues commands: it never
-// blocks a real-time loop.
+// PanelBackend. `robossis panel` runs it over the panel's own in-process session (the follower unit over the Bullet
+// RSR and, in haptic mode, the leader unit with the simulated sigma.7: panel::SimulatedFollowerBackend). The window
+// thread only reads snapshots and queues commands: it never blocks a real-time loop.
 
 #include <array>
 #include <memory>
@@ -85,7 +85,7 @@ class PanelWindow {
 
 struct AppContext;  // src/apps/app_context.h
 
-// For `robossis panel` and `robossis teleop --panel` alike (src/apps/panel/cmd_panel.cc): the models, panel.yaml,
+// For `robossis panel` and any other back end's command (src/apps/panel/cmd_panel.cc): the models, panel.yaml,
 // the demonstration caps (transfer.yaml) and, with_bone, the femur fragments to draw; and the jog limits, which are
 // the follower's own (follower.yaml, caps from transfer.yaml). Throw std::runtime_error naming the file and key.
 PanelModels LoadPanelModels(const AppContext& context, bool with_bone);
