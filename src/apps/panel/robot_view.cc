@@ -188,7 +188,12 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
 
   // The workspace boundary slice around the ring (positions P can reach at the current orientation).
+  // Thin, faint and many: drawn without anti-aliasing (1 px quads instead of 3 px fringed ones, a third of the
+  // pixels for the software renderer to blend).
+  const ImDrawListFlags flags = draw->Flags;
+  draw->Flags &= ~ImDrawListFlags_AntiAliasedLines;
   for (const auto& edge : scene.slice_edges_F) Line(draw, p, edge[0], edge[1], IM_COL32(90, 200, 255, 60), 1.0f);
+  draw->Flags = flags;
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;
@@ -199,7 +204,6 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
             [](const ShadedTriangle& a, const ShadedTriangle& b) { return a.depth > b.depth; });
   // Without anti-aliased edges: ImGui's fringe makes each triangle 7 (a closed mesh hides the edges anyway), and
   // the software renderer's cost is per triangle.
-  const ImDrawListFlags flags = draw->Flags;
   draw->Flags &= ~ImDrawListFlags_AntiAliasedFill;
   for (const ShadedTriangle& t : triangles) draw->AddTriangleFilled(t.a, t.b, t.c, t.color);
   draw->Flags = flags;
