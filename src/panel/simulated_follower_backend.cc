@@ -215,7 +215,7 @@ std::unique_ptr<SimulatedFollowerBackend::HapticLeader> SimulatedFollowerBackend
                                            threaded_ ? haptics::BackgroundWork::kThread
                                                      : haptics::BackgroundWork::kSimulated);
   leader->unit = std::make_unique<teleop::LeaderUnit>(setup.leader, transfer, model_, *device_, *leader->renderer,
-                                                      link_, X_FM_start, leader_session_base_ + leaders_.size() + 1);
+                                                      link_, X_FM_start, leader_session_base_ + ++leaders_built_);
   return leader;
 }
 

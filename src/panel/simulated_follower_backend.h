@@ -144,6 +144,7 @@ class SimulatedFollowerBackend final : public PanelBackend {
   std::unique_ptr<HapticLeaderSetup> haptic_setup_;
   std::unique_ptr<haptics::HapticDevice> device_;
   std::uint64_t leader_session_base_ = 0;
+  std::uint64_t leaders_built_ = 0;  // each leader unit is a new leader session: base + this count, never reused
 
   // Panel → loop.
   rt::SpscQueue<Order> orders_{64};

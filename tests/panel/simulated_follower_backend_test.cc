@@ -239,7 +239,11 @@ TEST_F(SimulatedFollowerBackendTest, HapticModeRunsTheLeaderUnitWithTheSimulated
   Run(0.5);
   EXPECT_EQ(Status().state, OperatingState::kClutched);
   EXPECT_LT(MToMm((PoseOf(Status()).translation() - held).norm()), 0.05);  // the hand moves, the robot does not
-  ASSERT_TRUE(backend_.RequestHapticMode(Haptic(true, false, "proxy", 10), reason)) << reason;
+  // A second change while clutched: each leader unit is a leader session of its own (a reused one would make the
+  // new unit's restarted sequence numbers look out of order to the follower).
+  ASSERT_TRUE(backend_.RequestHapticMode(Haptic(true, true, "proxy", 5), reason)) << reason;
+  Run(0.2);
+  ASSERT_TRUE(backend_.RequestHapticMode(Haptic(true, false, "proxy", 5), reason)) << reason;
   Run(0.5);
   EXPECT_EQ(Status().state, OperatingState::kEnabled);
   EXPECT_EQ(backend_.follower_counters().setpoints_rejected, 0u);
@@ -253,6 +257,12 @@ TEST_F(SimulatedFollowerBackendTest, HapticModeRunsTheLeaderUnitWithTheSimulated
   ASSERT_TRUE(backend_.StartJog(JogZ(1, 1)).accepted);
   Run(1.5);
   EXPECT_NEAR(MToMm(PoseOf(Status()).translation().z() - z0), 1, 0.1);
+
+  // On again: a new leader unit from where the jog left the robot.
+  ASSERT_TRUE(backend_.RequestHapticMode(Haptic(true, false, "proxy-safe", 2), reason)) << reason;
+  Run(0.5);
+  EXPECT_EQ(Status().state, OperatingState::kEnabled);
+  EXPECT_EQ(backend_.follower_counters().setpoints_rejected, 0u);
 }
 
 // A hand script (the replay format: the RSR pose the hand commands, mm and deg) that pushes straight up (+z, toward
