@@ -1,7 +1,5 @@
 #include "src/panel/simulated_follower_backend.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -22,24 +20,9 @@ using teleop::OperatingState;
 // panel's leader side (jog player or leader unit) ticks at this rate.
 constexpr double kSetPointRateHz = 1000;
 
-// Sleeps to absolute CLOCK_MONOTONIC deadlines `period_s` apart, running `tick` until `stop`; a missed deadline is
-// counted and the schedule restarts from now.
-template <typename Tick>
-void RunOnDeadlines(double period_s, const std::atomic<bool>& stop, Tick tick, std::uint64_t& overruns) {
-  const std::int64_t period_ns = static_cast<std::int64_t>(std::llround(period_s * 1e9));
-  std::int64_t deadline_ns = rt::MonotonicNowNs() + period_ns;
-  while (!stop.load(std::memory_order_relaxed)) {
-    timespec wake{static_cast<time_t>(deadline_ns / 1000000000), static_cast<long>(deadline_ns % 1000000000)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr) != 0) {
-    }
-    tick();
-    deadline_ns += period_ns;
-    if (rt::MonotonicNowNs() > deadline_ns) {
-      ++overruns;
-      deadline_ns = rt::MonotonicNowNs() + period_ns;
-    }
-  }
-}
+// [assumed] as in `robossis teleop`: the actuation outranks the haptic loop (a late step is a jerk).
+constexpr int kFollowerFifoPriority = 81;
+constexpr int kLeaderFifoPriority = 80;
 
 sim::SimOptions MechanismOnly(bool gravity) {
   sim::SimOptions options;
@@ -94,30 +77,31 @@ void SimulatedFollowerBackend::AttachHapticLeader(HapticLeaderSetup setup) {
   haptic_setup_ = std::make_unique<HapticLeaderSetup>(std::move(setup));
 }
 
-void SimulatedFollowerBackend::Start() {
-  if (follower_thread_.joinable()) return;
-  stop_.store(false);
+std::vector<std::string> SimulatedFollowerBackend::Start() {
+  if (follower_loop_) return {};
+  const auto* clock = dynamic_cast<const rt::MonotonicClock*>(&clock_);
+  if (clock == nullptr) throw std::logic_error("simulated follower: the loops need the MonotonicClock");
   threaded_ = true;
-  leader_thread_ = std::thread([this] { LeaderLoop(); });
-  follower_thread_ = std::thread([this] { FollowerLoop(); });
+  rt::LoopOptions follower;
+  follower.name = "panel follower unit";
+  follower.period_ns = std::llround(period_s_ * 1e9);
+  follower.fifo_priority = kFollowerFifoPriority;
+  rt::LoopOptions leader;
+  leader.name = "panel leader side";
+  leader.period_ns = std::llround(1e9 / kSetPointRateHz);
+  leader.fifo_priority = kLeaderFifoPriority;
+  follower_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, follower_task_, follower);
+  leader_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, leader_task_, leader);
+  const std::int64_t start_ns = std::llround(clock->NowS() * 1e9) + leader.period_ns;  // on the clock
+  std::vector<std::string> warnings;
+  for (rt::PeriodicLoop* loop : {leader_loop_.get(), follower_loop_.get()})
+    if (std::string warning = loop->Start(start_ns); !warning.empty()) warnings.push_back(std::move(warning));
+  return warnings;
 }
 
 void SimulatedFollowerBackend::Stop() {
-  stop_.store(true);
-  if (follower_thread_.joinable()) follower_thread_.join();
-  if (leader_thread_.joinable()) leader_thread_.join();
-}
-
-void SimulatedFollowerBackend::FollowerLoop() {
-  RunOnDeadlines(period_s_, stop_, [this] { Step(); }, health_record_.overruns);
-}
-
-void SimulatedFollowerBackend::LeaderLoop() {
-  std::uint64_t overruns = 0;
-  RunOnDeadlines(1.0 / kSetPointRateHz, stop_, [this, &overruns] {
-    LeaderSideTick();
-    leader_overruns_.store(overruns, std::memory_order_relaxed);
-  }, overruns);
+  if (follower_loop_) follower_loop_->Stop();
+  if (leader_loop_) leader_loop_->Stop();
 }
 
 bool SimulatedFollowerBackend::ReadLeaderRecord(teleop::LeaderTickRecord& record) noexcept {
@@ -345,7 +329,10 @@ void SimulatedFollowerBackend::FollowerTick() noexcept {
   const double last = last_presence_s_.load(std::memory_order_relaxed);
   health_record_.setpoint_age_s = last < 0 ? -1 : now_s - last;
   health_record_.watchdog_holds = unit_->counters().watchdog_holds;
-  health_record_.leader_overruns = leader_overruns_.load(std::memory_order_relaxed);
+  if (follower_loop_) {  // the loops' own counts (atomics); without the loops, a test's Step() has none
+    health_record_.overruns = follower_loop_->overruns();
+    health_record_.leader_overruns = leader_loop_->overruns();
+  }
   health_.Publish(health_record_);
 }
 

@@ -18,8 +18,8 @@
 // frees it. Switching haptic mode off zeroes the device's force and resynchronises the jog player.
 //
 // Threads: the panel thread calls the PanelBackend methods (it is the operator queue's one producer). With Start(),
-// two loops on absolute CLOCK_MONOTONIC deadlines, each counting its overruns: the follower unit at its tick rate
-// (10 kHz) and the leader side at the link's 1 kHz (the jog player or the leader unit: the set-point channel's one
+// two loops (rt::PeriodicLoop: absolute CLOCK_MONOTONIC deadlines, SCHED_FIFO where permitted, overruns counted):
+// the follower unit at its tick rate (10 kHz) and the leader side at the link's 1 kHz (the jog player or the leader unit: the set-point channel's one
 // producer and the status channel's one consumer). Without Start(), a test advances a SimulatedClock and calls
 // Step(), which runs the leader side every tenth follower tick. They meet only through SPSC queues and seqlock
 // snapshots. Step() and the leader-side tick allocate nothing, lock nothing and never throw.
@@ -28,7 +28,7 @@
 #include <deque>
 #include <memory>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include "geometry/boundary_atlas.h"
 #include "haptics/device/haptic_device.h"
@@ -41,6 +41,7 @@
 #include "robot/sim/rsr_simulation.h"
 #include "robot/sim/sim_config.h"
 #include "src/core/rt/clock.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/snapshot.h"
 #include "src/core/rt/spsc_queue.h"
 #include "src/panel/jog_player.h"
@@ -79,8 +80,9 @@ class SimulatedFollowerBackend final : public PanelBackend {
   // device, std::runtime_error when the device cannot be opened or refuses its forces.
   void AttachHapticLeader(HapticLeaderSetup setup);
 
-  // The loop threads (the clock must be CLOCK_MONOTONIC's). Without them, a test drives Step() itself.
-  void Start();
+  // The loop threads (the clock must be a rt::MonotonicClock: std::logic_error otherwise). Without them, a test
+  // drives Step() itself. Returns what real-time setup was refused (SCHED_FIFO), for the caller to print.
+  std::vector<std::string> Start();
   void Stop();
   // One follower tick at clock.NowS(): without the loop threads, every 1 ms first the leader side's tick (the jog
   // and haptic orders, then the jog player's set-point or the leader unit's tick); then FollowerUnit::Tick().
@@ -120,8 +122,23 @@ class SimulatedFollowerBackend final : public PanelBackend {
     bool clutched = false;
     HapticLeader* leader = nullptr;      // a new leader unit to run (owned by the panel thread's list)
   };
-  void FollowerLoop();
-  void LeaderLoop();
+  // The two loops' tasks.
+  class FollowerTask final : public rt::PeriodicTask {
+   public:
+    explicit FollowerTask(SimulatedFollowerBackend& backend) : backend_(backend) {}
+    void Tick(std::int64_t) noexcept override { backend_.Step(); }
+
+   private:
+    SimulatedFollowerBackend& backend_;
+  };
+  class LeaderTask final : public rt::PeriodicTask {
+   public:
+    explicit LeaderTask(SimulatedFollowerBackend& backend) : backend_(backend) {}
+    void Tick(std::int64_t) noexcept override { backend_.LeaderSideTick(); }
+
+   private:
+    SimulatedFollowerBackend& backend_;
+  };
   void LeaderSideTick() noexcept;
   void FollowerTick() noexcept;
   // Panel thread: builds a leader unit for the request, starting at X_FM_start. Throws on a bad method.
@@ -167,7 +184,6 @@ class SimulatedFollowerBackend final : public PanelBackend {
   HapticLeader* active_leader_ = nullptr;
   bool haptic_active_ = false;
   std::atomic<double> last_presence_s_{-1};  // read by the follower side for the set-point age
-  std::atomic<std::uint64_t> leader_overruns_{0};
 
   // Follower-side state.
   std::uint64_t tick_ = 0;
@@ -175,9 +191,10 @@ class SimulatedFollowerBackend final : public PanelBackend {
   LoopHealth health_record_;
 
   bool threaded_ = false;  // the leader side runs on its own loop
-  std::atomic<bool> stop_{false};
-  std::thread follower_thread_;
-  std::thread leader_thread_;
+  FollowerTask follower_task_{*this};
+  LeaderTask leader_task_{*this};
+  std::unique_ptr<rt::PeriodicLoop> follower_loop_;
+  std::unique_ptr<rt::PeriodicLoop> leader_loop_;
 };
 
 }  // namespace robossis::panel

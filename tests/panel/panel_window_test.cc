@@ -139,13 +139,16 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
                                 "2.5 quit\n",
                                 "--no-slice --no-bone");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_EQ(run.json["state"], "clutched");
+  // Clutched (the follower holds), or holding for a tick because the leader side's set-point came late on a loaded
+  // machine (ready); the exact state sequence is SimulatedFollowerBackendTest's, in simulated time.
+  const std::string state = run.json["state"];
+  EXPECT_TRUE(state == "clutched" || state == "ready") << state;
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
   EXPECT_EQ(run.json["haptic"]["method"], "proxy");
   EXPECT_TRUE(run.json["haptic"]["clutched"].get<bool>());
 }
 
-// Haptic mode with the simulated sigma.7: a jog takes the robot to 9 mm below the nearest wall (71 mm above home),
+// Haptic mode with the simulated sigma.7: a jog takes the robot to 5 mm below the nearest wall (71 mm above home),
 // then in haptic mode the hand (a replay script, the RSR pose it commands) pushes on up, beyond the wall, as far as
 // the sigma.7's handle travels; the panel shows the rendered force on the hand and the robot stops at the wall.
 // The demonstration caps are chosen while clutched, so the robot follows the hand within the run.
@@ -167,23 +170,27 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
                                 "0.8 set jog.axis z\n"
-                                "0.8 set jog.amount 62\n"
-                                "0.8 set jog.duration_s 10\n"
+                                "0.8 set jog.amount 66\n"
+                                "0.8 set jog.duration_s 11\n"  // eq. 9 peak 9.4 mm/s, under the 10 mm/s cap
                                 "0.9 click jog.go\n"
-                                "11.5 click haptic.on\n"
-                                "11.5 click haptic.clutch\n"
-                                "11.6 set haptic.caps demonstration\n"
-                                "11.7 click haptic.unclutch\n"
-                                "16.0 quit\n",
+                                "12.5 click haptic.on\n"
+                                "12.5 click haptic.clutch\n"
+                                "12.6 set haptic.caps demonstration\n"
+                                "12.7 click haptic.unclutch\n"
+                                "20.0 quit\n",  // a loaded machine's loops run late: room to reach the wall
                                 "--no-slice --no-bone --device replay:" + hand.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
   EXPECT_TRUE(run.json["haptic"]["enabled"].get<bool>());
   EXPECT_FALSE(run.json["haptic"]["clutched"].get<bool>());
-  EXPECT_EQ(run.json["state"], "enabled");
+  // Powered and following (enabled), or holding for a tick because a set-point came late on a loaded machine
+  // (ready); never a fault, a disable or a lost leader.
+  const std::string state = run.json["state"];
+  EXPECT_TRUE(state == "enabled" || state == "ready") << state;
+  EXPECT_EQ(run.json["fault_reason"], "none");
   EXPECT_GT(run.json["haptic"]["max_hand_force_n"].get<double>(), 1.0) << run.output;
   const double z_mm = run.json["pose_mm_deg"][2].get<double>() - robossis::MToMm(home.z());
-  EXPECT_GT(z_mm, 63.0);  // it followed the hand up from the jog's end ...
+  EXPECT_GT(z_mm, 66.5);  // it followed the hand up from the jog's end ...
   EXPECT_LT(z_mm, 71.5);  // ... and stopped at the wall
 }
 

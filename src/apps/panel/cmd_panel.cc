@@ -115,7 +115,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
       } catch (const std::exception& e) {
         throw std::runtime_error(std::string("--device: ") + e.what());
       }
-      simulated->Start();
+      for (const std::string& warning : simulated->Start()) std::cerr << "robossis: warning: " << warning << "\n";
       backend = std::move(simulated);
     }
     const PanelRunResult result = RunPanelWindow(*backend, models, window);
