@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <unistd.h>
 
 #include "haptics/rendering/renderer_factory.h"
@@ -308,8 +309,13 @@ TEST_F(SimulatedFollowerBackendTest, TheHandPushingIntoAWallFeelsTheRenderedForc
   // and holds through: that is the runtime's leader, measured here, not the panel's.)
   EXPECT_EQ(backend_.follower_counters().setpoints_by_verdict[static_cast<int>(teleop::SetPointVerdict::kInfeasible)],
             0u);
-  EXPECT_EQ(backend_.follower_counters().limit_violations, 0u);
-  EXPECT_TRUE(robot::IsPoseFeasible(model_, PoseOf(Status())));
+  // The robot rests on the wall: on the boundary, up to the simulated drives' tracking (the Bullet RSR may settle a
+  // few micrometres past a stroke limit, which the follower counts in limit_violations; 10 µm is the bound here).
+  const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, PoseOf(Status()));
+  double min_margin = std::numeric_limits<double>::infinity();
+  for (const robot::RsrLimitCheck& check : ik.checks) min_margin = std::min(min_margin, check.margin);
+  EXPECT_GT(min_margin, -1e-5);
+  EXPECT_LT(min_margin, 1e-3);  // and it is at the wall, not short of it
 }
 
 TEST_F(SimulatedFollowerBackendTest, TheTickAllocatesNothingInHapticModeEither) {
