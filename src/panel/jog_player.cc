@@ -24,7 +24,7 @@ Eigen::Isometry3d PoseOfStatus(const teleop::FollowerStatusMessage& status) noex
 
 bool JogPlayer::StartMove(const Eigen::Vector3d& delta_p_F, const Eigen::Vector3d& delta_rot_F,
                           double duration_s) noexcept {
-  if (!has_status_ || !synced_ || status_.state != OperatingState::kReady || move_ || haptic_) return false;
+  if (!has_status_ || !synced_ || status_.state != OperatingState::kReady || move_) return false;
   if (!(duration_s >= 0) || !std::isfinite(duration_s)) return false;
   transfer::TimedMoveRequest request;
   request.delta_p_F = delta_p_F;
@@ -38,12 +38,6 @@ void JogPlayer::StopMove() noexcept {
   if (!move_) return;
   X_hold_ = move_->Evaluate(clock_.NowS()).X_FM;  // eq. 9: where the path is now
   move_.reset();
-}
-
-void JogPlayer::SetHaptic(bool enabled, bool clutched) noexcept {
-  if (enabled) StopMove();  // haptic mode and a jog never run together
-  haptic_ = enabled;
-  clutched_ = enabled && clutched;
 }
 
 void JogPlayer::Tick() noexcept {
@@ -77,8 +71,6 @@ void JogPlayer::Tick() noexcept {
       X_hold_ = move_->X_FM_end();
       move_.reset();
     }
-  } else if (haptic_) {
-    flags = teleop::kSetPointPresence | (clutched_ ? teleop::kSetPointClutched : 0);
   }
   message.sequence = ++sequence_;
   message.leader_session = session_;

@@ -1,12 +1,12 @@
 #pragma once
-// The panel's leader side: it plays the panel's jogs (eq. 9 timed moves) and its haptic-mode presence as 1 kHz
-// set-points through a teleop::LeaderLink, exactly as a leader unit would, so that the follower unit validates and
-// executes them on its one path. It knows the follower only through the link's status messages.
+// The panel's leader side outside haptic mode: it plays the panel's jogs (eq. 9 timed moves) as 1 kHz set-points
+// through a teleop::LeaderLink, exactly as a leader unit would, so that the follower unit validates and executes
+// them on its one path. It knows the follower only through the link's status messages. (In haptic mode the
+// runtime's leader unit sends the set-points instead: simulated_follower_backend.h.)
 //
 // Like a leader at rest, it sends a set-point every leader tick: the hold pose without the presence flag (the
-// follower holds in READY), the eq. 9 pose with presence while a jog runs (the follower follows in ENABLED), and
-// the hold pose with presence (and the clutch flag) in haptic mode, there being no device in this session. Stop ends
-// the move where the path is: no more of its set-points are sent and the follower holds. Whenever the follower
+// follower holds in READY), and the eq. 9 pose with presence while a jog runs (the follower follows in ENABLED).
+// Stop ends the move where the path is: no more of its set-points are sent and the follower holds. Whenever the follower
 // leaves its powered states, a running move is dropped and, once powered again, the player re-synchronises its hold
 // pose to the measured pose in a new leader session (so the follower judges no rate across the gap).
 //
@@ -31,8 +31,14 @@ class JogPlayer {
   bool StartMove(const Eigen::Vector3d& delta_p_F, const Eigen::Vector3d& delta_rot_F, double duration_s) noexcept;
   // Ends the running move where its path is now (the new hold pose).
   void StopMove() noexcept;
-  // Haptic-mode presence: with no device the hand is still, so it holds the pose with presence (and the clutch).
-  void SetHaptic(bool enabled, bool clutched) noexcept;
+
+  // Another leader sent the set-points for a while (the panel's haptic mode): the next set-points start from the
+  // follower's next status, in a new leader session, with no move running.
+  void Resync() noexcept {
+    move_.reset();
+    has_status_ = false;
+    synced_ = false;
+  }
 
   // One leader tick: takes the newest follower status and sends one set-point.
   void Tick() noexcept;
@@ -50,8 +56,6 @@ class JogPlayer {
   bool synced_ = false;  // the hold pose belongs to the current powered period
   Eigen::Isometry3d X_hold_ = Eigen::Isometry3d::Identity();
   std::optional<transfer::TimedMove> move_;
-  bool haptic_ = false;
-  bool clutched_ = false;
   std::uint64_t session_ = 1;
   std::uint64_t sequence_ = 0;
   double last_presence_s_ = -1;

@@ -1,8 +1,8 @@
 #pragma once
 // What the control panel (paper Fig. 13) needs from the runtime, and nothing more: the follower's latest status
 // snapshot, the loop health, state commands, and eq. 9 jogs. The panel's window and its scripted tests talk only to
-// this interface, so the same panel runs over the in-panel simulated follower (SimulatedFollowerBackend), over the
-// in-process teleoperation runtime (`robossis teleop --panel`) or over a remote follower.
+// this interface, so the same panel runs over the panel's in-process session (SimulatedFollowerBackend: the
+// runtime's follower unit and, in haptic mode, its leader unit) or, later, over a remote follower.
 //
 // Threads: every call comes from the panel's (non-real-time) thread. Reads return copies of atomic snapshots and
 // never wait for a loop; commands are queued to the loop through lock-free single-producer structures.
@@ -23,6 +23,7 @@ struct LoopHealth {
   double last_jitter_s = 0;          // the last period's
   std::uint64_t ticks = 0;
   std::uint64_t overruns = 0;        // ticks that missed their deadline
+  std::uint64_t leader_overruns = 0; // the same for the leader side's loop (the 1 kHz set-points), where there is one
   double setpoint_age_s = -1;        // time since the last set-point was consumed; < 0: none yet
   std::uint64_t watchdog_holds = 0;  // holds because the set-points went stale
 };

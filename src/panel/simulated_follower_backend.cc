@@ -1,12 +1,14 @@
 #include "src/panel/simulated_follower_backend.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 
+#include "haptics/device/device_factory.h"
+#include "haptics/rendering/renderer_factory.h"
 #include "src/panel/view_model.h"
 
 namespace robossis::panel {
@@ -14,8 +16,13 @@ namespace {
 
 using teleop::OperatingState;
 
-// The leader's set-point rate: the paper's 1 kHz link (the follower ticks at 10 kHz between set-points).
+// The leader's set-point rate: the paper's 1 kHz link (the follower ticks at 10 kHz between set-points). The
+// panel's leader side (jog player or leader unit) ticks at this rate.
 constexpr double kSetPointRateHz = 1000;
+
+// [assumed] as in `robossis teleop`: the actuation outranks the haptic loop (a late step is a jerk).
+constexpr int kFollowerFifoPriority = 81;
+constexpr int kLeaderFifoPriority = 80;
 
 sim::SimOptions MechanismOnly(bool gravity) {
   sim::SimOptions options;
@@ -49,37 +56,70 @@ SimulatedFollowerBackend::SimulatedFollowerBackend(const robot::RsrModel& model,
   health_.Publish(health_record_);
 }
 
-SimulatedFollowerBackend::~SimulatedFollowerBackend() { Stop(); }
+SimulatedFollowerBackend::~SimulatedFollowerBackend() {
+  Stop();
+  if (device_) device_->EnableForces(false);  // the session is over: the device's forces off
+}
 
-void SimulatedFollowerBackend::Start() {
-  if (thread_.joinable()) return;
-  stop_.store(false);
-  thread_ = std::thread([this] { Loop(); });
+void SimulatedFollowerBackend::AttachHapticLeader(HapticLeaderSetup setup) {
+  if (setup.sigma7 == nullptr) throw std::invalid_argument("haptic leader: no sigma.7 model");
+  setup.leader.rate_hz = kSetPointRateHz;  // the panel's leader side runs at the link's rate
+  setup.leader.Validate();
+  haptics::DeviceScriptOptions script = setup.leader.sim_script;
+  script.replay_scale = setup.transfer.mapping.translation_scale;  // as `robossis teleop` places a replay
+  std::unique_ptr<haptics::HapticDevice> device =
+      haptics::MakeDevice(setup.device, *setup.sigma7, setup.haptics, setup.leader.device, script);
+  if (device->EnableForces(true) != haptics::DeviceStatus::kOk)
+    throw std::runtime_error("haptic leader: the device " + setup.device + " refused to enable its forces");
+  std::random_device entropy;
+  leader_session_base_ = (static_cast<std::uint64_t>(entropy()) << 32) | entropy();
+  device_ = std::move(device);
+  haptic_setup_ = std::make_unique<HapticLeaderSetup>(std::move(setup));
+}
+
+std::vector<std::string> SimulatedFollowerBackend::Start() {
+  if (follower_loop_) return {};
+  const auto* clock = dynamic_cast<const rt::MonotonicClock*>(&clock_);
+  if (clock == nullptr) throw std::logic_error("simulated follower: the loops need the MonotonicClock");
+  threaded_ = true;
+  rt::LoopOptions follower;
+  follower.name = "panel follower unit";
+  follower.period_ns = std::llround(period_s_ * 1e9);
+  follower.fifo_priority = kFollowerFifoPriority;
+  rt::LoopOptions leader;
+  leader.name = "panel leader side";
+  leader.period_ns = std::llround(1e9 / kSetPointRateHz);
+  leader.fifo_priority = kLeaderFifoPriority;
+  follower_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, follower_task_, follower);
+  leader_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, leader_task_, leader);
+  const std::int64_t start_ns = std::llround(clock->NowS() * 1e9) + leader.period_ns;  // on the clock
+  std::vector<std::string> warnings;
+  for (rt::PeriodicLoop* loop : {leader_loop_.get(), follower_loop_.get()})
+    if (std::string warning = loop->Start(start_ns); !warning.empty()) warnings.push_back(std::move(warning));
+  return warnings;
 }
 
 void SimulatedFollowerBackend::Stop() {
-  stop_.store(true);
-  if (thread_.joinable()) thread_.join();
+  if (follower_loop_) follower_loop_->Stop();
+  if (leader_loop_) leader_loop_->Stop();
 }
 
-void SimulatedFollowerBackend::Loop() {
-  const std::int64_t period_ns = static_cast<std::int64_t>(std::llround(period_s_ * 1e9));
-  std::int64_t deadline_ns = rt::MonotonicNowNs() + period_ns;
-  while (!stop_.load(std::memory_order_relaxed)) {
-    timespec wake{static_cast<time_t>(deadline_ns / 1000000000), static_cast<long>(deadline_ns % 1000000000)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr) != 0) {
-    }
-    Step();
-    deadline_ns += period_ns;
-    if (rt::MonotonicNowNs() > deadline_ns) {  // missed the next deadline: count it and start afresh
-      ++health_record_.overruns;
-      deadline_ns = rt::MonotonicNowNs() + period_ns;
-    }
-  }
+bool SimulatedFollowerBackend::ReadLeaderRecord(teleop::LeaderTickRecord& record) noexcept {
+  return !leaders_.empty() && leaders_.back()->unit->latest().Read(record);
 }
 
 bool SimulatedFollowerBackend::ReadHandWrench(HandWrench& wrench) noexcept {
-  wrench = HandWrench{};  // no leader device and no hand in this session
+  wrench = HandWrench{};  // zero unless the haptic leader runs: no device force outside haptic mode
+  teleop::LeaderTickRecord record;
+  if (!haptic_granted_ || !ReadLeaderRecord(record)) return true;
+  // The force the device displays (device base O) in the fixed frame F, as the view draws it.
+  const Eigen::Matrix3d& R_FO = haptic_setup_->transfer.mapping.R_FO;
+  const Eigen::Vector3d f = R_FO * Eigen::Vector3d(record.f_O[0], record.f_O[1], record.f_O[2]);
+  const Eigen::Vector3d tau = R_FO * Eigen::Vector3d(record.tau_O[0], record.tau_O[1], record.tau_O[2]);
+  for (int i = 0; i < 3; ++i) {
+    wrench.force_n[i] = f[i];
+    wrench.torque_nm[i] = tau[i];
+  }
   return true;
 }
 
@@ -140,8 +180,47 @@ void SimulatedFollowerBackend::StopJog() noexcept {
   orders_.TryPush(order);
 }
 
+std::unique_ptr<SimulatedFollowerBackend::HapticLeader> SimulatedFollowerBackend::BuildLeader(
+    const HapticModeRequest& request, const Eigen::Isometry3d& X_FM_start) {
+  const HapticLeaderSetup& setup = *haptic_setup_;
+  const std::vector<std::string> methods = haptics::KnownMethods();
+  if (request.rendering_method < 0 || request.rendering_method >= static_cast<int>(methods.size()))
+    throw std::invalid_argument("haptic mode: rendering method " + std::to_string(request.rendering_method) +
+                                " is not known");
+  auto leader = std::make_unique<HapticLeader>();
+  leader->method = request.rendering_method;
+  leader->max_linear_speed_m_s = request.max_linear_speed_m_s;
+  leader->max_angular_speed_rad_s = request.max_angular_speed_rad_s;
+  transfer::TransferConfig transfer = setup.transfer;
+  transfer.caps.max_linear_speed_m_s = request.max_linear_speed_m_s;  // eq. 11 scales the hand to these caps
+  transfer.caps.max_angular_speed_rad_s = request.max_angular_speed_rad_s;
+  leader->renderer = haptics::MakeRenderer(methods[request.rendering_method], setup.haptics, model_,
+                                           haptics::HcToRsrMap{}, setup.leader.rate_hz, setup.atlas,
+                                           threaded_ ? haptics::BackgroundWork::kThread
+                                                     : haptics::BackgroundWork::kSimulated);
+  leader->unit = std::make_unique<teleop::LeaderUnit>(setup.leader, transfer, model_, *device_, *leader->renderer,
+                                                      link_, X_FM_start, leader_session_base_ + ++leaders_built_);
+  return leader;
+}
+
+void SimulatedFollowerBackend::FreeRetiredLeaders() noexcept {
+  HapticLeader* retired = nullptr;
+  while (retired_.TryPop(retired)) {
+    for (auto it = leaders_.begin(); it != leaders_.end(); ++it) {
+      if (it->get() != retired) continue;
+      leaders_.erase(it);
+      break;
+    }
+  }
+}
+
 bool SimulatedFollowerBackend::RequestHapticMode(const HapticModeRequest& request, std::string& reason) {
   reason.clear();
+  FreeRetiredLeaders();
+  if (!haptic_setup_) {
+    reason = "haptic mode: this session has no haptic device";
+    return false;
+  }
   teleop::FollowerStatusMessage status;
   ReadStatus(status);
   const bool operable = status.state == OperatingState::kReady || status.state == OperatingState::kEnabled ||
@@ -154,16 +233,86 @@ bool SimulatedFollowerBackend::RequestHapticMode(const HapticModeRequest& reques
   order.kind = Order::kHaptic;
   order.haptic = request.enabled;
   order.clutched = request.clutched;
+  std::unique_ptr<HapticLeader> built;
+  if (request.enabled) {
+    const HapticLeader* current = haptic_granted_ && !leaders_.empty() ? leaders_.back().get() : nullptr;
+    const bool same = current != nullptr && current->method == request.rendering_method &&
+                      current->max_linear_speed_m_s == request.max_linear_speed_m_s &&
+                      current->max_angular_speed_rad_s == request.max_angular_speed_rad_s;
+    if (current != nullptr && !same && !request.clutched) {
+      // The rule of haptic_mode.h, checked again where it matters: the robot must not follow during the change.
+      reason = "haptic mode: the method and the caps change only while clutched";
+      return false;
+    }
+    if (!same) {
+      try {
+        built = BuildLeader(request, PoseOf(status));  // from where the follower is
+      } catch (const std::exception& e) {
+        reason = std::string("haptic mode: ") + e.what();
+        return false;
+      }
+      order.leader = built.get();
+    }
+  }
   if (!orders_.TryPush(order)) {
     reason = "haptic mode: the follower's request queue is full";
     return false;
   }
+  if (built) leaders_.push_back(std::move(built));
+  haptic_granted_ = request.enabled;
   return true;
 }
 
 // ---- loop thread ----
 
+void SimulatedFollowerBackend::LeaderSideTick() noexcept {
+  Order order;
+  while (orders_.TryPop(order)) {
+    switch (order.kind) {
+      case Order::kJog:
+        if (!haptic_active_)
+          player_.StartMove(Eigen::Vector3d(order.delta_p_F[0], order.delta_p_F[1], order.delta_p_F[2]),
+                            Eigen::Vector3d(order.delta_rot_F[0], order.delta_rot_F[1], order.delta_rot_F[2]),
+                            order.duration_s);
+        break;
+      case Order::kStopJog:
+        player_.StopMove();
+        break;
+      case Order::kHaptic:
+        if (order.leader != nullptr) {
+          if (active_leader_ != nullptr) retired_.TryPush(active_leader_);  // full: freed with the backend
+          active_leader_ = order.leader;
+        }
+        if (order.haptic && active_leader_ != nullptr) {
+          player_.StopMove();  // haptic mode and a jog never run together
+          active_leader_->unit->RequestClutch(order.clutched);
+          haptic_active_ = true;
+        } else if (!order.haptic && haptic_active_) {
+          haptic_active_ = false;
+          device_->Write(haptics::DeviceCommand{});  // nobody writes the device any more: leave it at zero force
+          player_.Resync();                           // the hand moved the robot: hold where it is now
+        }
+        break;
+    }
+  }
+  const double now_s = clock_.NowS();
+  if (haptic_active_) {
+    active_leader_->unit->Tick(static_cast<std::int64_t>(std::llround(now_s * 1e9)));
+    teleop::LeaderTickRecord record;
+    if (active_leader_->unit->latest().Read(record) && (record.flags & teleop::kSetPointPresence) != 0)
+      last_presence_s_.store(now_s, std::memory_order_relaxed);
+  } else {
+    player_.Tick();
+    last_presence_s_.store(player_.last_presence_s(), std::memory_order_relaxed);
+  }
+}
+
 void SimulatedFollowerBackend::Step() noexcept {
+  if (!threaded_ && tick_ % static_cast<std::uint64_t>(ticks_per_setpoint_) == 0) LeaderSideTick();
+  FollowerTick();
+}
+
+void SimulatedFollowerBackend::FollowerTick() noexcept {
   const double now_s = clock_.NowS();
   if (last_step_s_ >= 0) {
     health_record_.last_jitter_s = std::abs((now_s - last_step_s_) - period_s_);
@@ -171,33 +320,19 @@ void SimulatedFollowerBackend::Step() noexcept {
   }
   last_step_s_ = now_s;
   ++health_record_.ticks;
-
-  Order order;
-  while (orders_.TryPop(order)) {
-    switch (order.kind) {
-      case Order::kJog:
-        player_.StartMove(Eigen::Vector3d(order.delta_p_F[0], order.delta_p_F[1], order.delta_p_F[2]),
-                          Eigen::Vector3d(order.delta_rot_F[0], order.delta_rot_F[1], order.delta_rot_F[2]),
-                          order.duration_s);
-        break;
-      case Order::kStopJog:
-        player_.StopMove();
-        break;
-      case Order::kHaptic:
-        player_.SetHaptic(order.haptic, order.clutched);
-        break;
-    }
-  }
-  if (tick_ % static_cast<std::uint64_t>(ticks_per_setpoint_) == 0) player_.Tick();  // the leader side, 1 kHz
   ++tick_;
   unit_->Tick();  // the follower unit: the one validated path
 
   const Eigen::Isometry3d& X = unit_->commanded_pose();
   const Eigen::Quaterniond q(X.linear());
   commanded_.Publish({{X.translation().x(), X.translation().y(), X.translation().z()}, {q.w(), q.x(), q.y(), q.z()}});
-  const double last = player_.last_presence_s();
+  const double last = last_presence_s_.load(std::memory_order_relaxed);
   health_record_.setpoint_age_s = last < 0 ? -1 : now_s - last;
   health_record_.watchdog_holds = unit_->counters().watchdog_holds;
+  if (follower_loop_) {  // the loops' own counts (atomics); without the loops, a test's Step() has none
+    health_record_.overruns = follower_loop_->overruns();
+    health_record_.leader_overruns = leader_loop_->overruns();
+  }
   health_.Publish(health_record_);
 }
 

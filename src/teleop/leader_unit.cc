@@ -137,7 +137,7 @@ void LeaderUnit::SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoin
   }
   std::uint8_t flags = 0;
   if (state_ == LeaderState::kTracking) flags |= kSetPointPresence;
-  else flags |= kSetPointClutched;
+  if (state_ != LeaderState::kTracking || clutched_) flags |= kSetPointClutched;
   if (state_ == LeaderState::kDeviceFault) flags |= kSetPointDeviceFault;
   m.flags = flags;
   last_flags_ = flags;
@@ -171,7 +171,8 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     if (s.status == haptics::DeviceStatus::kEndOfScript) state_ = LeaderState::kEnded;
     else state_ = s.presence() ? LeaderState::kTracking : LeaderState::kWaiting;
   }
-  const bool tracking = state_ == LeaderState::kTracking;
+  clutched_ = state_ == LeaderState::kTracking && operator_clutch_.load(std::memory_order_acquire);
+  const bool tracking = state_ == LeaderState::kTracking && !clutched_;
   if (tracking != clutch_engaged_) {
     transfer_.SetClutch(tracking);  // engaging re-anchors on the next sample: no jump after a clutch or a fault
     clutch_engaged_ = tracking;

@@ -108,6 +108,10 @@ class LeaderUnit final : public rt::PeriodicTask {
 
   // Any thread: clears a latched device fault at the next tick (the mapping re-anchors).
   void RequestReset() noexcept { reset_requested_.store(true, std::memory_order_release); }
+  // Any thread: the operator's clutch (a control panel's Clutch button). While it is open and the hand is present,
+  // the transfer ignores the hand, no force is displayed and the set-points carry presence and the clutch flag (the
+  // follower holds in CLUTCHED); closing it re-anchors the mapping, so nothing jumps.
+  void RequestClutch(bool open) noexcept { operator_clutch_.store(open, std::memory_order_release); }
 
   // The flight recorder's consumer end, and the latest record for watchers (any thread).
   rt::SpscQueue<LeaderTickRecord>& records() noexcept { return records_; }
@@ -146,6 +150,8 @@ class LeaderUnit final : public rt::PeriodicTask {
   bool started_ = false;
   bool clutch_engaged_ = false;
   std::atomic<bool> reset_requested_{false};
+  std::atomic<bool> operator_clutch_{false};
+  bool clutched_ = false;  // this tick: presence with the operator's clutch open
   Eigen::Isometry3d X_goal_;
   Eigen::Isometry3d X_sent_;
   Eigen::Isometry3d X_sent_prev_;

@@ -1,7 +1,7 @@
 // The panel's leader side alone, on an in-process link and a simulated clock with a scripted follower status: it
 // sends one set-point per tick, without presence while idle, with presence along the eq. 9 path while a jog runs,
 // with strictly increasing sequences stamped by the shared clock, and starts a new leader session after the
-// follower was unpowered.
+// follower was unpowered or another leader sent the set-points.
 
 #include <cmath>
 
@@ -90,16 +90,25 @@ TEST_F(JogPlayerTest, AnUnpoweredFollowerDropsTheMoveAndResynchronisesInANewSess
   EXPECT_EQ(resumed.flags, 0);
 }
 
-TEST_F(JogPlayerTest, HapticModeSendsPresenceAndTheClutch) {
+// After another leader (the panel's haptic mode) sent the set-points, the player sends nothing until the follower's
+// next status, then holds that pose in a new leader session, and jogs from there.
+TEST_F(JogPlayerTest, AResyncHoldsTheNextStatusPoseInANewSession) {
   Follower(OperatingState::kReady, 0.28);
+  const teleop::SetPointMessage before = TickAndTake();
+  player_.Resync();
+  clock_.AdvanceNs(1'000'000);
+  player_.Tick();
+  teleop::SetPointMessage message;
+  std::int64_t arrival_ns = 0;
+  EXPECT_FALSE(link_.TakeSetPoint(message, arrival_ns));  // no status since: nothing to hold yet
+  Follower(OperatingState::kEnabled, 0.29);  // where the hand left the robot
+  const teleop::SetPointMessage after = TickAndTake();
+  EXPECT_NE(after.leader_session, before.leader_session);
+  EXPECT_DOUBLE_EQ(after.p_FM[2], 0.29);
+  EXPECT_EQ(after.flags, 0);
+  Follower(OperatingState::kReady, 0.29);
   TickAndTake();
-  player_.SetHaptic(true, false);
-  EXPECT_EQ(TickAndTake().flags, teleop::kSetPointPresence);
-  player_.SetHaptic(true, true);
-  EXPECT_EQ(TickAndTake().flags, teleop::kSetPointPresence | teleop::kSetPointClutched);
-  EXPECT_FALSE(player_.StartMove(Eigen::Vector3d(0, 0, 0.001), Eigen::Vector3d::Zero(), 1));
-  player_.SetHaptic(false, false);
-  EXPECT_EQ(TickAndTake().flags, 0);
+  EXPECT_TRUE(player_.StartMove(Eigen::Vector3d(0, 0, 0.001), Eigen::Vector3d::Zero(), 1));
 }
 
 }  // namespace

@@ -74,6 +74,29 @@ TEST(LeaderUnitTest, TracksTheHandWithPresenceAndSendsFeasibleSetPoints) {
   EXPECT_GT(moved, 0.005);  // the circle moved the set-point (at the 10 mm/s cap)
 }
 
+// The operator's clutch (a control panel's Clutch button): with the hand present, the set-points carry presence and
+// the clutch flag and stop moving, no force is displayed; closed again, tracking resumes from where it stopped.
+TEST(LeaderUnitTest, TheOperatorsClutchHoldsTheSetPointWithPresenceAndNoForce) {
+  Harness h("sim", "proxy-safe");
+  h.Run(0.4);
+  h.unit.RequestClutch(true);
+  h.Run(0.2);  // the transfer's filters settle near where the hand let go
+  const Eigen::Vector3d held = PoseFromArrays(h.link.last.p_FM, h.link.last.q_FM).translation();
+  h.Run(0.4);  // the hand goes on along its circle, ~19 mm
+  EXPECT_EQ(h.unit.state(), LeaderState::kTracking);
+  EXPECT_TRUE(h.link.last.flags & kSetPointPresence);
+  EXPECT_TRUE(h.link.last.flags & kSetPointClutched);
+  EXPECT_LT((PoseFromArrays(h.link.last.p_FM, h.link.last.q_FM).translation() - held).norm(), 0.5e-3);
+  LeaderTickRecord r;
+  ASSERT_TRUE(h.unit.latest().Read(r));
+  EXPECT_EQ(Eigen::Vector3d(r.f_O[0], r.f_O[1], r.f_O[2]).norm(), 0.0);
+  h.unit.RequestClutch(false);
+  h.Run(0.5);
+  EXPECT_TRUE(h.link.last.flags & kSetPointPresence);
+  EXPECT_FALSE(h.link.last.flags & kSetPointClutched);
+  EXPECT_GT((PoseFromArrays(h.link.last.p_FM, h.link.last.q_FM).translation() - held).norm(), 2e-3);
+}
+
 class FastHandEveryMethod : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FastHandEveryMethod, SetPointsNeverLeaveTheWorkspace) {

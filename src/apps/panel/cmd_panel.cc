@@ -1,19 +1,26 @@
-// robossis panel: the control panel window over the panel's own simulated follower (Bullet RSR).
+// robossis panel: the control panel window over the panel's own session: the follower unit over the Bullet RSR
+// and, in haptic mode, the leader unit with a haptic device (the simulated sigma.7 unless --device says otherwise);
+// or, with --link dds, a remote follower over the two-machine link with the panel's credentials.
 
 #include <iostream>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "haptics/haptics_config.h"
 #include "haptics/transfer/transfer_config.h"
 #include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
 #include "src/apps/app_context.h"
+#include "src/apps/link_cli.h"
 #include "src/apps/panel/panel_window.h"
 #include "src/core/rt/clock.h"
 #include "src/core/units.h"
+#include "src/panel/dds_follower_backend.h"
 #include "src/panel/simulated_follower_backend.h"
 #include "src/panel/view_model.h"
 #include "src/teleop/follower_config.h"
+#include "src/teleop/teleop_session.h"
 
 namespace robossis::apps {
 
@@ -22,7 +29,8 @@ PanelModels LoadPanelModels(const AppContext& context, bool with_bone) {
   PanelModels models{context.LoadRsr(), context.LoadSigma7(),
                      panel::PanelConfig::FromYaml(context.ConfigPath("panel.yaml")),
                      {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
-                     nullptr};
+                     nullptr,
+                     haptics::HapticsConfig::FromYaml(context.ConfigPath("haptics.yaml")).hardware_default_method};
   if (with_bone) {
     const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
     models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
@@ -50,6 +58,9 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     bool no_bone = false;
     bool no_slice = false;
     bool json = false;
+    std::string device = "sim";
+    std::string link_kind = "sim";
+    link::LinkOptions link_options;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -65,6 +76,13 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-vsync", options->no_vsync, "Render as fast as possible (frame-time measurements)");
   cmd->add_flag("--no-bone", options->no_bone, "Do not load and draw the femur fragments");
   cmd->add_flag("--no-slice", options->no_slice, "Do not draw the live workspace slice");
+  cmd->add_option("--device", options->device,
+                  "Haptic device of haptic mode: sim (the simulated sigma.7, default), replay:FILE.csv, dhd[:...]");
+  cmd->add_option("--link", options->link_kind,
+                  "sim: the panel's own in-process session (default); dds: a remote follower over the link, with the "
+                  "panel's credentials (state commands only)")
+      ->check(CLI::IsMember({"sim", "dds"}));
+  AddLinkOptions(*cmd, options->link_options);
   cmd->add_flag("--json", options->json, "Print the final follower status and the frame times as JSON");
   cmd->callback([options, &context] {
     const PanelModels models = LoadPanelModels(context, !options->no_bone);
@@ -77,25 +95,36 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     window.vsync = !options->no_vsync;
     window.workspace_slice = !options->no_slice;
 
-    const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
+    // The follower unit's and the leader unit's configs as `robossis teleop` loads them; the follower's caps are
+    // the jog limits' (LoadJogLimits): the demonstration caps of transfer.yaml.
+    const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(context.data_dir, models.rsr, models.hc);
     const panel::JogLimits limits = LoadJogLimits(context, models);
-    transfer::SpeedCaps caps;  // the follower's caps are the jog limits' (LoadJogLimits): the demonstration caps
-    caps.max_linear_speed_m_s = models.demonstration_caps.max_linear_speed_m_s;
-    caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
-    const teleop::FollowerConfig follower = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps);
-    const actuation::ActuationConfig actuation =
-        actuation::ActuationConfig::FromYaml(context.ConfigPath("actuation.yaml"));
     const rt::MonotonicClock clock;
-    panel::SimulatedFollowerBackend backend(models.rsr, sim_config, models.config.sim_with_gravity, follower,
-                                            actuation, limits, models.config.sim_loop_rate_hz, clock);
-    backend.Start();
-    const PanelRunResult result = RunPanelWindow(backend, models, window);
-    backend.Stop();
+    std::unique_ptr<panel::PanelBackend> backend;
+    if (options->link_kind == "dds") {
+      CheckLinkOptions(options->link_options, std::cerr);
+      options->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
+      backend = std::make_unique<panel::DdsFollowerBackend>(options->link_options);
+    } else {
+      auto simulated = std::make_unique<panel::SimulatedFollowerBackend>(
+          models.rsr, setup.sim, models.config.sim_with_gravity, setup.follower, setup.actuation, limits,
+          models.config.sim_loop_rate_hz, clock);
+      try {
+        simulated->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
+                                       nullptr});
+      } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("--device: ") + e.what());
+      }
+      for (const std::string& warning : simulated->Start()) std::cerr << "robossis: warning: " << warning << "\n";
+      backend = std::move(simulated);
+    }
+    const PanelRunResult result = RunPanelWindow(*backend, models, window);
+    if (auto* simulated = dynamic_cast<panel::SimulatedFollowerBackend*>(backend.get())) simulated->Stop();
     if (!options->json) return;
     teleop::FollowerStatusMessage status;
-    backend.ReadStatus(status);
+    backend->ReadStatus(status);
     panel::LoopHealth health;
-    backend.ReadHealth(health);
+    backend->ReadHealth(health);
     const panel::PanelViewModel view = panel::BuildViewModel(models.rsr, status);
     nlohmann::ordered_json out;
     out["frames"] = result.frames;
@@ -106,14 +135,16 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     out["message"] = result.message;
     out["last_fault"] = result.last_fault;
     out["haptic"] = {{"enabled", result.haptic_enabled}, {"clutched", result.clutched},
-                     {"caps", result.cap_preset}, {"method", result.rendering_method}};
+                     {"caps", result.cap_preset}, {"method", result.rendering_method},
+                     {"max_hand_force_n", result.max_hand_force_n}, {"device", options->device}};
+    out["link"] = options->link_kind;
     out["state"] = view.state_name;
     out["fault_reason"] = teleop::ToString(status.fault_reason);
     out["pose_mm_deg"] = view.pose_mm_deg;
     out["setpoints_accepted"] = status.setpoints_accepted;
     out["setpoints_rejected"] = status.setpoints_rejected;
     out["loop"] = {{"ticks", health.ticks}, {"overruns", health.overruns},
-                   {"max_jitter_ms", 1e3 * health.max_jitter_s}};
+                   {"leader_overruns", health.leader_overruns}, {"max_jitter_ms", 1e3 * health.max_jitter_s}};
     PrintJson(out);
   });
 }

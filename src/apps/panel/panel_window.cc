@@ -9,12 +9,14 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <future>
 #include <stdexcept>
+#include <utility>
 
 #include "geometry/live_boundary.h"
 #include "haptics/rendering/renderer_factory.h"
@@ -26,9 +28,20 @@
 namespace robossis::apps {
 namespace {
 
-// [assumed] display budgets for the software renderer: triangles per bone fragment and edges of the slice drawn.
+// [assumed] display budgets for the software renderer: triangles per bone fragment and edges of the slice drawn (an
+// edge is two triangles, and the rasteriser's cost grows with the triangles: see the panel section of BENCHMARKS.md).
 constexpr std::size_t kMaxFragmentTriangles = 2500;
-constexpr std::size_t kMaxSliceEdges = 6000;
+constexpr std::size_t kMaxSliceEdges = 3000;
+// The panel's fixed windows draw no background of their own: on the software renderer a window background is a
+// textured, blended quad over most of the screen (measured: the larger part of a 1920x1080 frame's rasterisation),
+// while glClear, which paints the same colour, is a memset.
+constexpr ImGuiWindowFlags kFixedWindow =
+    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBackground;
+// The background colours glClear paints: the panel's, and the 3-D view's (a scissored clear of its rectangle).
+constexpr float kPanelBackground[3] = {0.1f, 0.1f, 0.12f};
+constexpr float kViewBackground[3] = {28 / 255.0f, 32 / 255.0f, 40 / 255.0f};
+// [assumed] plot resolution: one point per this many pixel columns (a 540 px plot shows 270 points of its 10 s).
+constexpr float kPlotPixelsPerPoint = 2.0f;
 // [assumed] regenerate the drawn workspace slice when the orientation moved by more than this.
 constexpr double kSliceRefreshRad = 0.5 * kDegToRad;
 // [assumed] the drawn slice is coarser than the haptic one (geometry's 4 mm): it is a picture, not a wall.
@@ -103,18 +116,21 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
   if (hi - lo < 1e-3f) lo -= 0.5f, hi += 0.5f;
   const double t0 = buffer.time_s(0), t1 = buffer.time_s(buffer.size() - 1);
   const double span = std::max(1e-6, t1 - t0);
-  // At most ~one point per pixel column.
-  const std::size_t stride = std::max<std::size_t>(1, buffer.size() / static_cast<std::size_t>(size.x));
+  // Each signal is one polyline of at most one point per kPlotPixelsPerPoint pixel columns (decimated by a
+  // stride; the newest sample always ends it), 1 px wide: the software renderer's cost is per triangle, and a
+  // polyline of N points is 2(N-1) triangles where N separate segments of 1.5 px were 6N.
+  const std::size_t max_points = std::max<std::size_t>(2, static_cast<std::size_t>(size.x / kPlotPixelsPerPoint));
+  const std::size_t stride = std::max<std::size_t>(1, (buffer.size() + max_points - 1) / max_points);
+  static thread_local std::vector<ImVec2> points;  // the window thread's scratch, reused every frame
   auto color = colors.begin();
   for (int c : columns) {
-    ImVec2 last{};
-    bool have = false;
+    points.clear();
     for (std::size_t i = 0; i < buffer.size(); i += stride) {
-      const ImVec2 p(o.x + static_cast<float>((buffer.time_s(i) - t0) / span) * size.x,
-                     o.y + size.y - (buffer.values(i)[c] - lo) / (hi - lo) * (size.y - 4) - 2);
-      if (have) draw->AddLine(last, p, *color, 1.5f);
-      last = p, have = true;
+      const std::size_t k = std::min(i + stride >= buffer.size() ? buffer.size() - 1 : i, buffer.size() - 1);
+      points.emplace_back(o.x + static_cast<float>((buffer.time_s(k) - t0) / span) * size.x,
+                          o.y + size.y - (buffer.values(k)[c] - lo) / (hi - lo) * (size.y - 4) - 2);
     }
+    draw->AddPolyline(points.data(), static_cast<int>(points.size()), *color, ImDrawFlags_None, 1.0f);
     ++color;
   }
   char range[64];
@@ -181,7 +197,7 @@ class SliceRefresher {
 void DrawTopBar(panel::PanelController& panel, float width) {
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(width, 64));
-  ImGui::Begin("State", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove);
+  ImGui::Begin("State", nullptr, ImGuiWindowFlags_NoDecoration | kFixedWindow);
   ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.85f, 0.1f, 0.1f, 1));
   ImGui::PushStyleColor(ImGuiCol_ButtonHovered, ImVec4(1.0f, 0.2f, 0.2f, 1));
   if (ImGui::Button("E-STOP", ImVec2(150, 48))) panel.Click("estop");
@@ -210,7 +226,7 @@ void DrawTopBar(panel::PanelController& panel, float width) {
 void DrawControls(panel::PanelController& panel, float height) {
   ImGui::SetNextWindowPos(ImVec2(0, 64));
   ImGui::SetNextWindowSize(ImVec2(380, height - 64));
-  ImGui::Begin("Controls", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::Begin("Controls", nullptr, kFixedWindow);
   panel::JogForm& form = panel.jog_form();
   Section("Manual jog (eq. 9)");
   static const char* kAxes[] = {"x", "y", "z", "roll", "pitch", "yaw"};
@@ -271,7 +287,8 @@ void DrawControls(panel::PanelController& panel, float height) {
   ImGui::Text("loop %.0f Hz, ticks %llu", health.period_s > 0 ? 1 / health.period_s : 0.0,
               static_cast<unsigned long long>(health.ticks));
   ImGui::Text("period jitter: last %.3f ms, max %.3f ms", 1e3 * health.last_jitter_s, 1e3 * health.max_jitter_s);
-  ImGui::Text("overruns: %llu   watchdog holds: %llu", static_cast<unsigned long long>(health.overruns),
+  ImGui::Text("overruns: %llu (leader %llu)   watchdog holds: %llu", static_cast<unsigned long long>(health.overruns),
+              static_cast<unsigned long long>(health.leader_overruns),
               static_cast<unsigned long long>(health.watchdog_holds));
   if (health.setpoint_age_s < 0)
     ImGui::Text("set-point age: none yet");
@@ -283,7 +300,7 @@ void DrawControls(panel::PanelController& panel, float height) {
 void DrawNumbers(panel::PanelController& panel, float x, float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
-  ImGui::Begin("Pose and joints", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::Begin("Pose and joints", nullptr, kFixedWindow);
   const panel::PanelViewModel& view = panel.view();
   Section("Pose of the moving ring");
   ImGui::Text("x %8.2f  y %8.2f  z %8.2f mm", view.pose_mm_deg[0], view.pose_mm_deg[1], view.pose_mm_deg[2]);
@@ -307,10 +324,12 @@ void DrawNumbers(panel::PanelController& panel, float x, float width, float heig
   ImGui::End();
 }
 
-void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, float x, float width, float height) {
+// Returns the 3-D view's rectangle (origin, size), whose background the frame clears.
+std::pair<ImVec2, ImVec2> DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, float x,
+                                          float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
-  ImGui::Begin("Robot", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::Begin("Robot", nullptr, kFixedWindow);
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const ImVec2 size = ImGui::GetContentRegionAvail();
   ImGui::InvisibleButton("view", size);
@@ -327,6 +346,15 @@ void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, flo
   ImGui::GetWindowDrawList()->AddText(ImVec2(origin.x + 8, origin.y + 8), IM_COL32(200, 200, 200, 255),
                                       "drag: orbit   wheel: zoom   cross: commanded centre   blue: workspace slice");
   ImGui::End();
+  return {origin, size};
+}
+
+panel::HapticModeModel InitialHapticMode(const PanelModels& models) {
+  panel::HapticModeModel mode(haptics::KnownMethods(), models.demonstration_caps);
+  std::string reason;
+  if (!models.default_method.empty() && !mode.SetMethod(models.default_method, reason))
+    throw std::runtime_error("panel: default rendering method: " + reason);
+  return mode;
 }
 
 double Percentile(std::vector<double> values, double q) {
@@ -362,8 +390,7 @@ void SaveFramebufferPng(const std::string& path, int width, int height) {
 struct PanelWindow::Impl {
   Impl(panel::PanelBackend& backend, const PanelModels& models, const PanelWindowOptions& options)
       : options(options),
-        controller(backend, models.rsr, models.config,
-                   panel::HapticModeModel(haptics::KnownMethods(), models.demonstration_caps)),
+        controller(backend, models.rsr, models.config, InitialHapticMode(models)),
         session(options.width_px, options.height_px, options.vsync),
         script(options.script),
         start(std::chrono::steady_clock::now()) {
@@ -387,8 +414,11 @@ struct PanelWindow::Impl {
   panel::ScriptPlayer script;
   std::chrono::steady_clock::time_point start;
   std::vector<double> frame_ms;
+  std::array<std::vector<double>, kFramePhases> phase_ms;  // where each frame's time went (FramePhase)
   std::vector<std::string> screenshots;
   long frames = 0;
+  double max_hand_force_n = 0;
+  long triangles = 0;
   bool done = false;
 };
 
@@ -418,6 +448,9 @@ bool PanelWindow::Frame() {
     }
   }
   m.controller.Update(now_s);
+  const auto update_end = std::chrono::steady_clock::now();
+  const panel::HandWrench& wrench = m.controller.wrench();
+  m.max_hand_force_n = std::max(m.max_hand_force_n, std::hypot(wrench.force_n[0], wrench.force_n[1], wrench.force_n[2]));
   if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F);
 
   ImGui_ImplOpenGL3_NewFrame();
@@ -429,13 +462,23 @@ bool PanelWindow::Frame() {
   const float numbers_width = std::min(560.0f, 0.33f * w);
   DrawTopBar(m.controller, w);
   DrawControls(m.controller, h);
-  DrawRobotWindow(m.controller, m.scene, 380, w - 380 - numbers_width, h);
+  const auto [view_origin, view_size] = DrawRobotWindow(m.controller, m.scene, 380, w - 380 - numbers_width, h);
   DrawNumbers(m.controller, w - numbers_width, numbers_width, h);
   ImGui::Render();
+  m.triangles = ImGui::GetDrawData()->TotalIdxCount / 3;
+  const auto layout_end = std::chrono::steady_clock::now();
   glViewport(0, 0, width, height);
-  glClearColor(0.1f, 0.1f, 0.12f, 1);
+  glClearColor(kPanelBackground[0], kPanelBackground[1], kPanelBackground[2], 1);
   glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_SCISSOR_TEST);  // OpenGL's rows count from the bottom
+  glScissor(static_cast<GLint>(view_origin.x), static_cast<GLint>(h - view_origin.y - view_size.y),
+            static_cast<GLsizei>(std::max(0.0f, view_size.x)), static_cast<GLsizei>(std::max(0.0f, view_size.y)));
+  glClearColor(kViewBackground[0], kViewBackground[1], kViewBackground[2], 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  glFinish();  // the rasterisation, apart from the present below
+  const auto raster_end = std::chrono::steady_clock::now();
   ++m.frames;
   const bool last = quit || (m.options.max_frames > 0 && m.frames >= m.options.max_frames);
   if (last && !m.options.screenshot_path.empty()) screenshots_due.push_back(m.options.screenshot_path);
@@ -445,7 +488,13 @@ bool PanelWindow::Frame() {
   }
   glfwSwapBuffers(m.session.window);
   glFinish();  // the frame is on screen: the time below includes the software renderer's work
-  m.frame_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start).count());
+  const auto frame_end = std::chrono::steady_clock::now();
+  const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+  m.frame_ms.push_back(ms(frame_start, frame_end));
+  m.phase_ms[static_cast<int>(FramePhase::kUpdate)].push_back(ms(frame_start, update_end));
+  m.phase_ms[static_cast<int>(FramePhase::kLayout)].push_back(ms(update_end, layout_end));
+  m.phase_ms[static_cast<int>(FramePhase::kRaster)].push_back(ms(layout_end, raster_end));
+  m.phase_ms[static_cast<int>(FramePhase::kPresent)].push_back(ms(raster_end, frame_end));
   m.done = last;
   return !last;
 }
@@ -459,12 +508,15 @@ PanelRunResult PanelWindow::Result() const {
   result.frame_p50_ms = Percentile(m.frame_ms, 0.50);
   result.frame_p99_ms = Percentile(m.frame_ms, 0.99);
   result.frame_max_ms = m.frame_ms.empty() ? 0 : *std::max_element(m.frame_ms.begin(), m.frame_ms.end());
+  for (int i = 0; i < kFramePhases; ++i) result.phase_p50_ms[i] = Percentile(m.phase_ms[i], 0.50);
   result.message = m.controller.message();
   result.last_fault = m.controller.last_fault();
   result.haptic_enabled = m.controller.haptic().enabled();
   result.clutched = m.controller.haptic().clutched();
   result.cap_preset = panel::ToString(m.controller.haptic().cap_preset());
   result.rendering_method = m.controller.haptic().method();
+  result.max_hand_force_n = m.max_hand_force_n;
+  result.last_frame_triangles = m.triangles;
   return result;
 }
 

@@ -1,9 +1,10 @@
 #pragma once
 // The control panel's window (paper Fig. 13): Dear ImGui on GLFW and OpenGL 3, drawing a PanelController over any
-// PanelBackend. `robossis panel` runs it over the panel's simulated follower; `robossis teleop --panel` runs it over
-// the in-process teleoperation runtime. The window thread only reads snapshots and queues commands: it never
-// blocks a real-time loop.
+// PanelBackend. `robossis panel` runs it over the panel's own in-process session (the follower unit over the Bullet
+// RSR and, in haptic mode, the leader unit with the simulated sigma.7: panel::SimulatedFollowerBackend). The window
+// thread only reads snapshots and queues commands: it never blocks a real-time loop.
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,11 +29,18 @@ struct PanelWindowOptions {
   bool workspace_slice = true;              // the live dexterous slice around the ring
 };
 
+// Where a frame's time goes: the script and the snapshots (and the slice poll), the ImGui layout with the 3-D
+// view's draw lists, the rasterisation (draw calls and glFinish), the present (screenshots, swap, glFinish).
+enum class FramePhase { kUpdate, kLayout, kRaster, kPresent };
+inline constexpr int kFramePhases = 4;
+
 struct PanelRunResult {
   long frames = 0;
   double frame_p50_ms = 0;
   double frame_p99_ms = 0;
   double frame_max_ms = 0;
+  std::array<double, kFramePhases> phase_p50_ms{};  // by FramePhase
+  long last_frame_triangles = 0;                    // ImGui's draw data of the last frame (the rasteriser's work)
   std::vector<std::string> screenshots;  // written PNGs
   double elapsed_s = 0;
   // The panel's own state at the end, for scripted tests.
@@ -42,6 +50,7 @@ struct PanelRunResult {
   bool clutched = false;
   std::string cap_preset;
   std::string rendering_method;
+  double max_hand_force_n = 0;  // the largest |force on the hand| the panel showed (the arrows and the force plot)
 };
 
 // Everything the window draws that does not come from the backend.
@@ -51,6 +60,7 @@ struct PanelModels {
   panel::PanelConfig config;
   panel::SpeedCapValues demonstration_caps;
   std::shared_ptr<const sim::BoneFragments> fragments;  // may be null
+  std::string default_method;  // haptic mode's rendering method at start (haptics.yaml hardware_default_method)
 };
 
 // The window, one frame at a time (the benchmark times Frame()).
@@ -75,7 +85,7 @@ class PanelWindow {
 
 struct AppContext;  // src/apps/app_context.h
 
-// For `robossis panel` and `robossis teleop --panel` alike (src/apps/panel/cmd_panel.cc): the models, panel.yaml,
+// For `robossis panel` and any other back end's command (src/apps/panel/cmd_panel.cc): the models, panel.yaml,
 // the demonstration caps (transfer.yaml) and, with_bone, the femur fragments to draw; and the jog limits, which are
 // the follower's own (follower.yaml, caps from transfer.yaml). Throw std::runtime_error naming the file and key.
 PanelModels LoadPanelModels(const AppContext& context, bool with_bone);

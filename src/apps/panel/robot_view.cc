@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
+#include <set>
+#include <unordered_map>
 #include <utility>
 
 #include "src/core/units.h"
@@ -108,10 +111,45 @@ void AddMesh(std::vector<ShadedTriangle>& out, const Projector& p, const DrawMes
 
 DrawMesh ReduceForDrawing(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<std::array<int, 3>>& triangles, std::size_t max_triangles) {
+  if (triangles.size() <= max_triangles || vertices.empty()) return {vertices, triangles};
+  // Vertex clustering: the vertices of each cell of a grid merge into their centroid, the triangles that collapse
+  // vanish; the cell grows until the budget is met. Unlike keeping every k-th triangle, the surface stays closed
+  // (no holes to see through), at the price of detail.
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& v : vertices) box.extend(v);
+  double cell = std::max(1e-6, box.diagonal().norm() / 200);
   DrawMesh mesh;
-  mesh.vertices = vertices;
-  const std::size_t stride = std::max<std::size_t>(1, (triangles.size() + max_triangles - 1) / std::max<std::size_t>(1, max_triangles));
-  for (std::size_t i = 0; i < triangles.size(); i += stride) mesh.triangles.push_back(triangles[i]);
+  for (int attempt = 0; attempt < 64; ++attempt, cell *= 1.2) {
+    std::unordered_map<std::int64_t, int> cluster_of_cell;
+    std::vector<int> cluster(vertices.size());
+    std::vector<Eigen::Vector3d> sum;
+    std::vector<int> count;
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      const Eigen::Vector3d c = ((vertices[i] - box.min()) / cell).array().floor();
+      const std::int64_t key = (static_cast<std::int64_t>(c.x()) * 4096 + static_cast<std::int64_t>(c.y())) * 4096 +
+                               static_cast<std::int64_t>(c.z());  // < 4096 cells per axis: at most 200 here
+      const auto [it, added] = cluster_of_cell.emplace(key, static_cast<int>(sum.size()));
+      if (added) {
+        sum.push_back(Eigen::Vector3d::Zero());
+        count.push_back(0);
+      }
+      cluster[i] = it->second;
+      sum[it->second] += vertices[i];
+      ++count[it->second];
+    }
+    mesh.vertices.resize(sum.size());
+    for (std::size_t k = 0; k < sum.size(); ++k) mesh.vertices[k] = sum[k] / count[k];
+    mesh.triangles.clear();
+    std::set<std::array<int, 3>> seen;
+    for (const auto& t : triangles) {
+      std::array<int, 3> r{cluster[t[0]], cluster[t[1]], cluster[t[2]]};  // the winding is kept
+      if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
+      std::array<int, 3> key = r;
+      std::sort(key.begin(), key.end());
+      if (seen.insert(key).second) mesh.triangles.push_back(r);
+    }
+    if (mesh.triangles.size() <= max_triangles) break;
+  }
   return mesh;
 }
 
@@ -139,7 +177,6 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
 void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
                    const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
                    const RobotScene& scene, const panel::HandWrench& wrench) {
-  draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(28, 32, 40, 255));
   draw->PushClipRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), true);
   const Eigen::Vector3d target(0, 0, 0.5 * model.geometry().X_FM_home.translation().z());
   const Projector p = MakeProjector(origin, size, camera, target);
@@ -151,7 +188,12 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
 
   // The workspace boundary slice around the ring (positions P can reach at the current orientation).
+  // Thin, faint and many: drawn without anti-aliasing (1 px quads instead of 3 px fringed ones, a third of the
+  // pixels for the software renderer to blend).
+  const ImDrawListFlags flags = draw->Flags;
+  draw->Flags &= ~ImDrawListFlags_AntiAliasedLines;
   for (const auto& edge : scene.slice_edges_F) Line(draw, p, edge[0], edge[1], IM_COL32(90, 200, 255, 60), 1.0f);
+  draw->Flags = flags;
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;
@@ -160,7 +202,11 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   AddMesh(triangles, p, scene.distal_M, X_FM, Eigen::Vector3d(0.95, 0.82, 0.70));
   std::sort(triangles.begin(), triangles.end(),
             [](const ShadedTriangle& a, const ShadedTriangle& b) { return a.depth > b.depth; });
+  // Without anti-aliased edges: ImGui's fringe makes each triangle 7 (a closed mesh hides the edges anyway), and
+  // the software renderer's cost is per triangle.
+  draw->Flags &= ~ImDrawListFlags_AntiAliasedFill;
   for (const ShadedTriangle& t : triangles) draw->AddTriangleFilled(t.a, t.b, t.c, t.color);
+  draw->Flags = flags;
 
   // Rings and arms.
   const double radius_fixed = model.p_FA(0).head<2>().norm();

@@ -28,7 +28,8 @@ struct RobotScene {
   std::vector<std::array<Eigen::Vector3d, 2>> slice_edges_F;
 };
 
-// Keeps at most `max_triangles` of a mesh (every k-th), for a frame-time budget on a software renderer.
+// A coarser closed mesh of at most `max_triangles` (vertex clustering on a grid), for a frame-time budget on a
+// software renderer.
 DrawMesh ReduceForDrawing(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<std::array<int, 3>>& triangles, std::size_t max_triangles);
 // The unique edges of a closed triangle mesh (vertices in m), at most `max_edges` of them.
@@ -36,6 +37,8 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
                                                       const std::vector<Eigen::Vector3i>& triangles,
                                                       std::size_t max_edges);
 
+// Draws over the rectangle (origin, size) without filling it: the caller paints the background (the panel window
+// clears it with glClear, far cheaper than a filled quad on a software renderer).
 void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
                    const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
                    const RobotScene& scene, const panel::HandWrench& wrench);
