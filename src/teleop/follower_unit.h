@@ -26,6 +26,7 @@
 #include "robot/feasible_motion.h"
 #include "robot/follower.h"
 #include "src/core/rt/clock.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/spsc_queue.h"
 #include "src/teleop/follower_config.h"
 #include "src/teleop/follower_state_machine.h"
@@ -87,7 +88,7 @@ struct FollowerCounters {
   std::uint64_t records_dropped = 0;     // the flight recorder's queue was full
 };
 
-class FollowerUnit {
+class FollowerUnit final : public rt::PeriodicTask {
  public:
   // The start pose is the back end's measured pose (it must be inside the joint limits). Throws
   // std::invalid_argument on a bad config or an infeasible start. Keeps references to every argument.
@@ -96,6 +97,8 @@ class FollowerUnit {
 
   // One actuation tick at clock.NowS().
   void Tick() noexcept;
+  // As a loop's task: the unit reads its clock itself, the loop's tick time is not used.
+  void Tick(std::int64_t) noexcept override { Tick(); }
 
   // The flight recorder's end of the record queue (one consumer thread).
   bool TakeRecord(FollowerTickRecord& record) noexcept { return records_.TryPop(record); }

@@ -42,16 +42,6 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
 
 namespace {
 
-// The follower unit reads its clock itself; the loops hand it the tick.
-class FollowerTask final : public rt::PeriodicTask {
- public:
-  explicit FollowerTask(FollowerUnit& unit) : unit_(unit) {}
-  void Tick(std::int64_t) noexcept override { unit_.Tick(); }
-
- private:
-  FollowerUnit& unit_;
-};
-
 SummaryOptions OptionsFromMeta(const nlohmann::json& meta) {
   SummaryOptions o;
   o.leader_rate_hz = meta.at("rate_hz").get<double>();
@@ -118,7 +108,6 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
 struct FollowerSide {
   std::unique_ptr<robot::Follower> back_end;
   std::unique_ptr<FollowerUnit> unit;
-  std::unique_ptr<FollowerTask> task;
 };
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
@@ -139,7 +128,6 @@ FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& s
     side.back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
   }
   side.unit = std::make_unique<FollowerUnit>(rsr, setup.actuation, setup.follower, *side.back_end, link, clock);
-  side.task = std::make_unique<FollowerTask>(*side.unit);
   return side;
 }
 
@@ -208,7 +196,7 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     o.name = "follower";
     o.period_ns = std::llround(1e9 / follower_rate_hz);
     o.fifo_priority = 81;  // the actuation outranks the haptic loop [assumed]: a late step is a jerk
-    tasks.push_back({follower->task.get(), o});
+    tasks.push_back({follower->unit.get(), o});
   }
 
   rt::RunResult run;

@@ -58,15 +58,6 @@ const TeleopSetup& Setup() {
   return setup;
 }
 
-class FollowerTask final : public rt::PeriodicTask {
- public:
-  explicit FollowerTask(FollowerUnit& unit) : unit_(unit) {}
-  void Tick(std::int64_t) noexcept override { unit_.Tick(); }
-
- private:
-  FollowerUnit& unit_;
-};
-
 // Hand sample → follower joint command on real clocks: 1 kHz leader, 10 kHz follower, `duration_s` per iteration.
 void BM_HandToJointCommandLatency(benchmark::State& state) {
   const TeleopSetup& setup = Setup();
@@ -90,7 +81,6 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
       back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
     }
     FollowerUnit follower(rsr, setup.actuation, setup.follower, *back_end, link, clock);
-    FollowerTask follower_task(follower);
     LeaderConfig leader_config = setup.leader;
     leader_config.rate_hz = 1000;
     haptics::DeviceScriptOptions script = leader_config.sim_script;
@@ -122,7 +112,7 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
     follower_loop.period_ns = std::llround(1e9 / follower_rate_hz);
     follower_loop.fifo_priority = 81;
     const rt::RunResult run = rt::RunRealTime(
-        clock, {{&leader, leader_loop}, {&follower_task, follower_loop}}, duration_s, drain);
+        clock, {{&leader, leader_loop}, {&follower, follower_loop}}, duration_s, drain);
     drain(0);
     realtime_refused += run.warnings.size();
     leader_overruns += run.stats[0].overruns;

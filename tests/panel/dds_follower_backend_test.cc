@@ -29,16 +29,7 @@ using link::testing::WaitFor;
 using teleop::OperatingState;
 using teleop::StateCommand;
 
-class FollowerTask final : public rt::PeriodicTask {
- public:
-  explicit FollowerTask(teleop::FollowerUnit& unit) : unit_(unit) {}
-  void Tick(std::int64_t) noexcept override { unit_.Tick(); }
-
- private:
-  teleop::FollowerUnit& unit_;
-};
-
-// The remote follower: everything `robossis follower --link dds` would run, in this process.
+// The remote follower: everything `robossis follower` runs, in this process.
 struct RemoteFollower {
   RemoteFollower()
       : model(robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml")),
@@ -54,12 +45,11 @@ struct RemoteFollower {
                                                     options);
     back_end->Disable();
     unit = std::make_unique<teleop::FollowerUnit>(model, actuation, follower, *back_end, link, clock);
-    task = std::make_unique<FollowerTask>(*unit);
     rt::LoopOptions loop;
     loop.name = "follower";
     loop.period_ns = 100'000;  // 10 kHz
     loop.try_realtime = false;
-    runner = std::make_unique<rt::PeriodicLoop>(clock, *task, loop);
+    runner = std::make_unique<rt::PeriodicLoop>(clock, *unit, loop);
     runner->Start(static_cast<std::int64_t>(clock.NowS() * 1e9) + loop.period_ns);  // ns on the clock
   }
   ~RemoteFollower() { runner->Stop(); }
@@ -73,7 +63,6 @@ struct RemoteFollower {
   link::DdsFollowerLink link;
   std::unique_ptr<sim::RsrSimulation> back_end;
   std::unique_ptr<teleop::FollowerUnit> unit;
-  std::unique_ptr<FollowerTask> task;
   std::unique_ptr<rt::PeriodicLoop> runner;
 };
 
