@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "src/core/csv.h"
 #include "src/core/parse.h"
 #include "src/core/units.h"
 
@@ -19,8 +20,17 @@ std::string Lower(std::string_view s) {
   return out;
 }
 
-bool AllEmpty(const std::vector<std::string_view>& fields) {
+bool AllEmpty(const std::vector<std::string>& fields) {
   return std::all_of(fields.begin(), fields.end(), [](std::string_view f) { return TrimField(f).empty(); });
+}
+
+// One line's cells through the strict splitter; `where` is "take.csv line 7" (an unterminated quote names it).
+void SplitCells(std::string_view line, const std::string& where, std::vector<std::string>& fields) {
+  try {
+    fields = SplitCsvRecord(line, where);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
 }
 
 struct AxisMap {
@@ -115,23 +125,6 @@ bool MotiveRow::Empty(int column) const {
   return column < 0 || column >= static_cast<int>(fields_.size()) || TrimField(fields_[column]).empty();
 }
 
-void SplitCsvLine(std::string_view line, std::vector<std::string_view>& fields) {
-  fields.clear();
-  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  std::size_t start = 0;
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      fields.push_back(line.substr(start, i - start));
-      start = i + 1;
-    }
-  }
-  fields.push_back(line.substr(start));
-}
-
 MotiveReader::MotiveReader(const std::filesystem::path& path) : source_name_(path.string()) {
   file_.open(path, std::ios::binary);
   if (!file_) throw std::runtime_error(source_name_ + ": cannot open the file");
@@ -165,9 +158,10 @@ void MotiveReader::ParseHeader() {
   const std::string& src = source_name_;
   auto where = [&](std::size_t line) { return src + " line " + std::to_string(line) + ": "; };
   std::string line;
-  std::vector<std::string_view> fields;
+  std::vector<std::string> fields;
+  auto at = [&](std::size_t line) { return src + " line " + std::to_string(line); };
   if (!NextLine(line)) throw std::runtime_error(src + ": the file is empty; expected a Motive CSV export");
-  SplitCsvLine(line, fields);
+  SplitCells(line, at(1), fields);
   if (fields.size() >= 2 && Lower(TrimField(fields[0])) == "format version") {
     // key/value pairs
   } else if (line.find("Motive") != std::string::npos || line.rfind("comment", 0) == 0 ||
@@ -255,7 +249,7 @@ void MotiveReader::ParseHeader() {
       throw std::runtime_error(src + ": the file ends inside the header (no row starting with 'Frame'); it is "
                                "truncated or not a Motive export");
     }
-    SplitCsvLine(line, fields);
+    SplitCells(line, at(line_number_), fields);
     if (AllEmpty(fields)) continue;  // the blank row (a spreadsheet may write it as commas)
     if (Lower(TrimField(fields[0])) == "frame") break;
     rows.push_back(line);
@@ -267,17 +261,17 @@ void MotiveReader::ParseHeader() {
   }
   header_.header_lines = static_cast<int>(line_number_);
   const std::string axis_line = line;
-  std::vector<std::string_view> axis;
-  SplitCsvLine(axis_line, axis);
+  std::vector<std::string> axis;
+  SplitCells(axis_line, at(line_number_), axis);
   if (rows.size() < 3) {
     throw std::runtime_error(where(line_number_) + "expected the Type, Name, ID and quantity header rows above "
                              "the 'Frame' row; found " + std::to_string(rows.size()));
   }
-  std::vector<std::string_view> type_row, name_row, id_row, quantity_row;
-  SplitCsvLine(rows[0], type_row);
-  SplitCsvLine(rows[1], name_row);
-  SplitCsvLine(rows[2], id_row);
-  if (rows.size() >= 4) SplitCsvLine(rows.back(), quantity_row);
+  std::vector<std::string> type_row, name_row, id_row, quantity_row;
+  SplitCells(rows[0], at(row_lines[0]), type_row);
+  SplitCells(rows[1], at(row_lines[1]), name_row);
+  SplitCells(rows[2], at(row_lines[2]), id_row);
+  if (rows.size() >= 4) SplitCells(rows.back(), at(row_lines.back()), quantity_row);
   // Spreadsheets add trailing empty cells: the number of columns is the last non-empty axis or type cell.
   std::size_t ncols = 0;
   for (std::size_t c = 0; c < std::max(axis.size(), type_row.size()); ++c) {
@@ -287,7 +281,7 @@ void MotiveReader::ParseHeader() {
   }
   layout_.num_columns = static_cast<int>(ncols);
   if (ncols >= 2 && Lower(TrimField(axis[1])).rfind("time", 0) == 0) layout_.time_column = 1;
-  auto cell = [](const std::vector<std::string_view>& r, std::size_t c) {
+  auto cell = [](const std::vector<std::string>& r, std::size_t c) {
     return c < r.size() ? std::string(TrimField(r[c])) : std::string();
   };
   // The Type row names Motive asset types only; anything else there means the row is missing (the Name row moved
@@ -304,6 +298,7 @@ void MotiveReader::ParseHeader() {
     }
   }
   std::map<std::string, int> rb_index, rbm_index, m_index;
+  std::map<std::string, std::size_t> column_names;
   int asset_columns = 0;
   for (std::size_t c = 2; c < ncols; ++c) {
     const std::string type = Lower(cell(type_row, c));
@@ -314,6 +309,17 @@ void MotiveReader::ParseHeader() {
     const int col = static_cast<int>(c);
     if (type.empty()) continue;
     ++asset_columns;
+    if (!quantity_row.empty()) {
+      // Motive writes each (type, name, ID, quantity, axis) once; a second one would silently replace the first.
+      const std::string column_key = type + "\x1f" + name + "\x1f" + id + "\x1f" + quantity + "\x1f" + Lower(cell(axis, c));
+      const auto [first, unique] = column_names.try_emplace(column_key, c);
+      if (!unique) {
+        throw std::runtime_error(where(header_.header_lines) + "column " + std::to_string(c + 1) + " (" +
+                                 cell(type_row, c) + " '" + name + "' " + cell(quantity_row, c) + " " + cell(axis, c) +
+                                 ") repeats column " + std::to_string(first->second + 1) +
+                                 "; expected each type, name, ID, quantity and axis once");
+      }
+    }
     const std::string key = name + "\x1f" + id;
     if (type == "rigid body") {
       auto [it, inserted] = rb_index.try_emplace(key, static_cast<int>(layout_.rigid_bodies.size()));
@@ -385,7 +391,7 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
   for (;;) {
     if (!NextLine(row.line_)) return false;
     if (row.line_.empty()) continue;  // a trailing empty line
-    SplitCsvLine(row.line_, row.fields_);
+    SplitCells(row.line_, source_name_ + " line " + std::to_string(line_number_), row.fields_);
     if (AllEmpty(row.fields_)) continue;  // spreadsheet padding rows
     break;
   }
@@ -412,6 +418,26 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
     throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the last row has " +
                              std::to_string(nfields) + " of " + std::to_string(layout_.num_columns) +
                              " cells and no line end: the file is truncated");
+  }
+  // An extra cell: a value beyond the header's columns (a spreadsheet's trailing empty cells are not values).
+  for (int c = layout_.num_columns; c < nfields; ++c) {
+    if (!TrimField(row.fields_[c]).empty()) {
+      throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ", column " +
+                               std::to_string(c + 1) + ": got '" + row.fields_[c].substr(0, 40) + "'; expected at most " +
+                               std::to_string(layout_.num_columns) + " cells, one per header column (an extra cell)");
+    }
+  }
+  // The Time cell, when written, must increase with the frames: time_s is built from the frame number, and a Time
+  // column that disagrees means an edited or spliced file.
+  if (layout_.time_column >= 0 && !row.Empty(layout_.time_column)) {
+    const double t = row.Number(layout_.time_column);
+    if (!(t > previous_time_cell_)) {
+      throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ", column " +
+                               std::to_string(layout_.time_column + 1) + " (Time): got '" +
+                               row.fields_[layout_.time_column].substr(0, 40) + "'; expected a time greater than " +
+                               std::to_string(previous_time_cell_) + " s (the previous row's): times must increase");
+    }
+    previous_time_cell_ = t;
   }
   if (nfields < layout_.num_columns && nfields > 2 && !TrimField(row.fields_.back()).empty()) {
     // Motive itself writes every column; a short row with a value at its end is a truncated file.

@@ -5,6 +5,9 @@
 // Export Frame Rate, Rotation Type, Length Units, ...); then a blank row; then header rows identified by position:
 // type, name, ID, ..., quantity, and the axis row that starts with "Frame". Each data row is one frame. Empty cells
 // are missing data (occlusion), never zero. Values are converted to SI when read (metres, radians).
+// Cells are split by the project's strict CSV splitter (src/core/csv.h: quotes, "" inside quotes, a byte-order mark);
+// a column named twice (same type, name, ID, quantity and axis), a non-empty cell beyond the header's columns, and
+// frames or Time cells that do not increase are errors.
 
 #include <cstdint>
 #include <filesystem>
@@ -78,7 +81,7 @@ struct MotiveLayout {
   std::string RigidBodyNames() const;  // "a, b" for messages
 };
 
-// One data row: fields are views into the row's own buffer (valid until the next ReadFrame()).
+// One data row, its cells split by the project's strict CSV splitter (quotes removed, blanks trimmed).
 class MotiveRow {
  public:
   std::int64_t frame = 0;
@@ -94,7 +97,7 @@ class MotiveRow {
  private:
   friend class MotiveReader;
   std::string line_;
-  std::vector<std::string_view> fields_;
+  std::vector<std::string> fields_;
   std::string source_name_;
   double length_scale_ = 1;
 };
@@ -132,9 +135,7 @@ class MotiveReader {
   MotiveHeader header_;
   MotiveLayout layout_;
   std::int64_t previous_frame_ = std::numeric_limits<std::int64_t>::min();
+  double previous_time_cell_ = -std::numeric_limits<double>::infinity();
 };
-
-// Splits one CSV line into fields (handles double quotes; strips a trailing '\r'). Views point into `line`.
-void SplitCsvLine(std::string_view line, std::vector<std::string_view>& fields);
 
 }  // namespace robossis::calibration

@@ -101,105 +101,97 @@ bool InterpolatePose(const PoseTrajectory& trajectory, double t, Eigen::Vector3d
   return true;
 }
 
+// The header names choose the columns (metres or millimetres; a quaternion or Euler angles in rad or deg); the
+// strict CSV reader then checks the whole file against that header: quotes and a byte-order mark, no name twice,
+// exactly one finite number per column in every row, time increasing strictly within the bounds.
 PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& source_name) {
-  PoseTrajectory out;
-  std::map<std::string, int> col;
+  // The header is the first line that is neither blank nor a '#' comment (after a byte-order mark).
+  std::vector<std::string> names;
+  std::size_t header_line = 0;
   bool have_header = false;
-  int t_col = -1, p_col[3] = {-1, -1, -1}, q_col[4] = {-1, -1, -1, -1}, e_col[3] = {-1, -1, -1};
-  double p_scale = 1, e_scale = 1;
-  std::size_t ncols = 0;
   ForEachLine(text, [&](std::string_view line, std::size_t number) {
-    if (IsCommentOrBlank(line)) return;
-    const std::vector<std::string_view> f = Split(line, false);
-    if (!have_header) {
-      for (std::size_t i = 0; i < f.size(); ++i) {
-        const auto [it, inserted] = col.emplace(std::string(f[i]), static_cast<int>(i));
-        if (!inserted) {
-          throw std::runtime_error(Where(source_name, number) + "column name '" + it->first + "' appears twice (columns " +
-                                   std::to_string(it->second + 1) + " and " + std::to_string(i + 1) + ")");
-        }
-      }
-      ncols = f.size();
-      auto find = [&](std::initializer_list<const char*> names) {
-        for (const char* n : names) {
-          if (col.count(n)) return col[n];
-        }
-        return -1;
-      };
-      t_col = find({"t_s", "time_s", "timestamp_s"});
-      if (t_col < 0) throw std::runtime_error(Where(source_name, number) + "no time column (t_s, time_s or timestamp_s)");
-      const char* axes_m[3] = {"x_m", "y_m", "z_m"};
-      const char* axes_mm[3] = {"x_mm", "y_mm", "z_mm"};
-      const bool mm = !col.count("x_m") && col.count("x_mm");
-      p_scale = mm ? kMmToM : 1.0;
-      for (int k = 0; k < 3; ++k) {
-        p_col[k] = find({mm ? axes_mm[k] : axes_m[k]});
-        if (p_col[k] < 0) {
-          throw std::runtime_error(Where(source_name, number) + "no position column '" + (mm ? axes_mm[k] : axes_m[k]) +
-                                   "' (expected x_m,y_m,z_m or x_mm,y_mm,z_mm)");
-        }
-      }
-      if (col.count("qw")) {
-        const char* qn[4] = {"qw", "qx", "qy", "qz"};
-        for (int k = 0; k < 4; ++k) {
-          q_col[k] = find({qn[k]});
-          if (q_col[k] < 0) throw std::runtime_error(Where(source_name, number) + "no column '" + qn[k] + "'");
-        }
-      } else {
-        const bool deg = col.count("roll_deg") > 0;
-        const char* en_rad[3] = {"roll_rad", "pitch_rad", "yaw_rad"};
-        const char* en_deg[3] = {"roll_deg", "pitch_deg", "yaw_deg"};
-        e_scale = deg ? kDegToRad : 1.0;
-        for (int k = 0; k < 3; ++k) {
-          e_col[k] = find({deg ? en_deg[k] : en_rad[k]});
-          if (e_col[k] < 0) {
-            throw std::runtime_error(Where(source_name, number) +
-                                     "no orientation columns (expected qw,qx,qy,qz or roll/pitch/yaw in _rad or _deg)");
-          }
-        }
-      }
-      have_header = true;
-      return;
+    if (have_header || IsCommentOrBlank(line)) return;
+    if (number == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+    try {
+      names = SplitCsvRecord(line, source_name + " line " + std::to_string(number));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
     }
-    if (f.size() != ncols) {
-      throw std::runtime_error(Where(source_name, number) + "expected exactly " + std::to_string(ncols) +
-                               " cells, one per header column, got " + std::to_string(f.size()));
-    }
-    auto num = [&](int c) {
-      double v = 0;
-      if (!TryParseNumber(f[c], &v)) {
-        throw std::runtime_error(Where(source_name, number) + "column '" +
-                                 [&] {
-                                   for (const auto& [n, i] : col) {
-                                     if (i == c) return n;
-                                   }
-                                   return std::string("?");
-                                 }() +
-                                 "' is '" + std::string(f[c].substr(0, 30)) + "'; expected a number");
-      }
-      return v;
-    };
-    const double t = num(t_col);
-    CheckTime(t, out, source_name, number);
-    if (!out.empty() && !(t > out.t_s.back())) {
-      throw std::runtime_error(Where(source_name, number) + "time " + std::to_string(t) +
-                               " s does not increase (previous " + std::to_string(out.t_s.back()) + " s)");
-    }
-    const Eigen::Vector3d p(num(p_col[0]) * p_scale, num(p_col[1]) * p_scale, num(p_col[2]) * p_scale);
-    Eigen::Quaterniond q;
-    if (q_col[0] >= 0) {
-      q = Eigen::Quaterniond(num(q_col[0]), num(q_col[1]), num(q_col[2]), num(q_col[3]));
-      if (!(q.norm() > 0.5 && q.norm() < 1.5)) {
-        throw std::runtime_error(Where(source_name, number) + "quaternion norm " + std::to_string(q.norm()) +
-                                 " is not 1");
-      }
-    } else {
-      q = Eigen::Quaterniond(RotationFromRpy(
-          Eigen::Vector3d(num(e_col[0]), num(e_col[1]), num(e_col[2])) * e_scale));
-    }
-    out.Add(t, p, q);
+    header_line = number;
+    have_header = true;
   });
   if (!have_header) throw std::runtime_error(source_name + ": empty; expected a header row and samples");
+  auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+  auto first_of = [&](std::initializer_list<const char*> options) -> std::string {
+    for (const char* n : options) {
+      if (has(n)) return n;
+    }
+    return "";
+  };
+  const std::string here = Where(source_name, header_line);
+  const std::string t_name = first_of({"t_s", "time_s", "timestamp_s"});
+  if (t_name.empty()) throw std::runtime_error(here + "no time column (t_s, time_s or timestamp_s)");
+  const bool mm = !has("x_m") && has("x_mm");
+  const double p_scale = mm ? kMmToM : 1.0;
+  std::vector<std::string> p_names = mm ? std::vector<std::string>{"x_mm", "y_mm", "z_mm"}
+                                        : std::vector<std::string>{"x_m", "y_m", "z_m"};
+  for (const std::string& n : p_names) {
+    if (!has(n.c_str())) {
+      throw std::runtime_error(here + "no position column '" + n + "' (expected x_m,y_m,z_m or x_mm,y_mm,z_mm)");
+    }
+  }
+  const bool quaternion = has("qw");
+  const bool deg = has("roll_deg");
+  const double e_scale = deg ? kDegToRad : 1.0;
+  std::vector<std::string> r_names = quaternion ? std::vector<std::string>{"qw", "qx", "qy", "qz"}
+                                     : deg      ? std::vector<std::string>{"roll_deg", "pitch_deg", "yaw_deg"}
+                                                : std::vector<std::string>{"roll_rad", "pitch_rad", "yaw_rad"};
+  for (const std::string& n : r_names) {
+    if (!has(n.c_str())) {
+      throw std::runtime_error(here + (quaternion ? "no column '" + n + "'"
+                                                  : std::string("no orientation columns (expected qw,qx,qy,qz or "
+                                                                "roll/pitch/yaw in _rad or _deg)")));
+    }
+  }
+  CsvSpec spec;
+  spec.what = "trajectory CSV";
+  spec.columns = {t_name};
+  spec.columns.insert(spec.columns.end(), p_names.begin(), p_names.end());
+  spec.columns.insert(spec.columns.end(), r_names.begin(), r_names.end());
+  for (const std::string& n : names) {
+    if (std::find(spec.columns.begin(), spec.columns.end(), n) == spec.columns.end()) spec.optional_columns.push_back(n);
+  }
+  spec.any_order = true;  // other columns are carried along unread; a name twice is still an error
+  spec.comment_lines = true;
+  spec.max_bytes = kMaxTrajectoryFileBytes;
+  spec.max_rows = kMaxTrajectoryFileBytes / 16;  // a row is at least "t,x,y,z,a,b,c\n": the byte bound binds first
+  spec.time_column = t_name;
+  spec.min_time = -kMaxTrajectoryTimeS;
+  spec.max_time = kMaxTrajectoryTimeS;
+  const NumericCsv csv = ParseNumericCsv(text, source_name, spec);
+
+  const int t_col = csv.Column(t_name);
+  int p_col[3], r_col[4] = {-1, -1, -1, -1};
+  for (int k = 0; k < 3; ++k) p_col[k] = csv.Column(p_names[k]);
+  for (std::size_t k = 0; k < r_names.size(); ++k) r_col[k] = csv.Column(r_names[k]);
+  PoseTrajectory out;
+  for (const CsvRow& row : csv.rows) {
+    const std::vector<double>& v = row.values;
+    const double t = v[t_col];
+    CheckTime(t, out, source_name, static_cast<std::size_t>(row.line));
+    const Eigen::Vector3d p(v[p_col[0]] * p_scale, v[p_col[1]] * p_scale, v[p_col[2]] * p_scale);
+    Eigen::Quaterniond q;
+    if (quaternion) {
+      q = Eigen::Quaterniond(v[r_col[0]], v[r_col[1]], v[r_col[2]], v[r_col[3]]);
+      if (!(q.norm() > 0.5 && q.norm() < 1.5)) {
+        throw std::runtime_error(Where(source_name, static_cast<std::size_t>(row.line)) + "quaternion norm " +
+                                 std::to_string(q.norm()) + " is not 1");
+      }
+    } else {
+      q = Eigen::Quaterniond(RotationFromRpy(Eigen::Vector3d(v[r_col[0]], v[r_col[1]], v[r_col[2]]) * e_scale));
+    }
+    out.Add(t, p, q);
+  }
   if (out.size() < 2) throw std::runtime_error(source_name + ": fewer than 2 samples; nothing to interpolate");
   return out;
 }

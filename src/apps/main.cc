@@ -43,7 +43,16 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help, --help-all and --version end the parse with "success": CLI11 prints them.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // A bad option is an input error like any other: one line naming the option and what was expected
+    // ("--days: Value 0 not in range 1 to 36500"), exit 1, not CLI11's own exit codes (105, 106, 109...).
+    std::string message = e.what();
+    for (char& c : message) {
+      if (c == '\n') c = ' ';
+    }
+    std::cerr << "robossis: error: " << message << "\n";
+    return 1;
   } catch (const std::filesystem::filesystem_error& e) {
     // Not the library's raw "filesystem error: ..." text: the path and the reason.
     std::cerr << "robossis: error: " << e.path1().string() << ": " << e.code().message() << "\n";

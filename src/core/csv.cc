@@ -110,8 +110,14 @@ std::string ReadBoundedFile(const fs::path& file, std::uintmax_t max_bytes, cons
 }
 
 NumericCsv ReadNumericCsv(const fs::path& file, const CsvSpec& spec) {
-  const std::string text = ReadBoundedFile(file, spec.max_bytes, spec.what);
-  const std::string name = file.string();
+  return ParseNumericCsv(ReadBoundedFile(file, spec.max_bytes, spec.what), file.string(), spec);
+}
+
+NumericCsv ParseNumericCsv(std::string_view text, const std::string& name, const CsvSpec& spec) {
+  if (text.size() > spec.max_bytes) {
+    throw std::runtime_error(name + ": " + std::to_string(text.size()) + " bytes; expected a " + spec.what +
+                             " of at most " + std::to_string(spec.max_bytes) + " bytes");
+  }
   const std::string expected_header = Joined(spec.columns);
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 byte-order mark (spreadsheet exports)
@@ -127,6 +133,10 @@ NumericCsv ReadNumericCsv(const fs::path& file, const CsvSpec& spec) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string where = name + " line " + std::to_string(line_number);
+    if (spec.comment_lines) {
+      const std::string_view trimmed = Trim(line);
+      if (trimmed.empty() || trimmed.front() == '#') continue;
+    }
     if (!have_header) {
       if (line.empty()) {
         throw std::runtime_error(where + ": empty line; expected the header '" + expected_header + "'");
@@ -213,8 +223,10 @@ NumericCsv ReadNumericCsv(const fs::path& file, const CsvSpec& spec) {
     out.rows.push_back(std::move(row));
   }
   if (!have_header) {
-    throw std::runtime_error(name + ": the " + spec.what + " is empty (0 bytes" +
-                             std::string(text.empty() ? "" : " after the byte-order mark") + "); expected the header '" +
+    const bool only_bom = text.size() == 3 && text.substr(0, 3) == "\xEF\xBB\xBF";
+    const std::string content = text.empty() ? "0 bytes" : only_bom ? "0 bytes after the byte-order mark"
+                                                                     : "only comments and blank lines";
+    throw std::runtime_error(name + ": the " + spec.what + " is empty (" + content + "); expected the header '" +
                              expected_header + "'");
   }
   if (out.rows.size() < spec.min_rows) {

@@ -35,6 +35,7 @@ struct CsvSpec {
   bool allow_equal_times = false;             // a repeated time stamp (a repeated sample) is allowed
   double min_time = 0.0;
   double max_time = 86'400.0;                 // one day, in the unit of the column
+  bool comment_lines = false;                 // lines starting with '#' (after blanks) are skipped, header included
 };
 
 struct CsvRow {
@@ -52,5 +53,9 @@ struct NumericCsv {
 // Reads a numeric CSV as `spec` describes. Blank lines are skipped. Throws std::runtime_error:
 // "traj.csv line 5, column 1 (t_s): got '0.1'; expected a time greater than 0.2 (the previous row's)".
 NumericCsv ReadNumericCsv(const std::filesystem::path& file, const CsvSpec& spec);
+
+// The same checks on text already read (a reader that looks at the file before choosing its spec, fuzzing);
+// `source_name` names the input in messages. A UTF-8 byte-order mark at the start is skipped.
+NumericCsv ParseNumericCsv(std::string_view text, const std::string& source_name, const CsvSpec& spec);
 
 }  // namespace robossis

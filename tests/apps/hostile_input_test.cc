@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -149,9 +150,24 @@ TEST_F(HostileInputTest, NumericOptionsAreBoundedAndFinite) {
               "--radius-mm: expected a finite number in [0, 1000] mm");
   ExpectError(Robossis("workspace hc --resolution-mm 1e-9 --out " + Q(dir_ / "hc")),
               "--resolution-mm: expected a finite number in [0.5, 50] mm");
-  const CommandRun decimation = Robossis("render-compare --trace-decimation 0 --out " + Q(dir_ / "rc"));
-  EXPECT_NE(decimation.exit_code, 0);  // a CLI11 range check (its own exit code)
-  EXPECT_THAT(decimation.output, HasSubstr("--trace-decimation: Value 0 not in range"));
+}
+
+// Options CLI11 itself refuses (a range check, a missing or unknown option) are input errors like the others: exit
+// 1 and one "robossis: error: --option: ..." line naming the option and the expected range (were exits 105 to 109
+// with CLI11's two-line text).
+TEST_F(HostileInputTest, OptionsRefusedByTheParserAreOneLineErrorsWithExit1) {
+  ExpectError(Robossis("render-compare --trace-decimation 0 --out " + Q(dir_ / "rc")),
+              "robossis: error: --trace-decimation: Value 0 not in range 1 to 1000\n");
+  ExpectError(Robossis("keys init --days 99999999999999999999"), "--days: Value 99999999999999999999 not in range 1 to");
+  ExpectError(Robossis("robot ik"), "robossis: error: --pose is required\n");
+  ExpectError(Robossis("robot ik --pose 0,0,284,0,0,0 --bogus 1"), "not expected");
+  for (const char* args : {"render-compare --trace-decimation 0", "robot ik", "nosuchcommand"}) {
+    const CommandRun run = Robossis(args);
+    EXPECT_EQ(run.exit_code, 1) << args;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    EXPECT_THAT(run.output, Not(HasSubstr("Run with --help"))) << run.output;
+  }
+  EXPECT_EQ(Robossis("robot ik --help").exit_code, 0);
 }
 
 // --- --out: fresh folder replaced whole, foreign folders refused, leftovers of dead runs removed -----------------

@@ -293,6 +293,69 @@ TEST(MotiveCsvTest, ReadsSeveralRigidBodies) {
   EXPECT_TRUE(reader.RigidBodyPose(row, 1).has_value());
 }
 
+// A small take in the 1.23 layout (two rigid bodies) for the hostile cases below; `names` is the Name row.
+std::string TwoBodyTake(const std::string& names = ",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n",
+                        const std::string& rows = "7,0.07,0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n"
+                                                  "8,0.08,0,0,0,1,11,20,30,0,0,0,1,-5,0,1001\n") {
+  return "Format Version,1.23,Take Name,two,Capture Frame Rate,100,Export Frame Rate,100,Rotation Type,Quaternion,"
+         "Length Units,Millimeters,Coordinate Space,Global\n\n"
+         ",Type,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,"
+         "Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body\n" +
+         names + ",ID,1,1,1,1,1,1,1,2,2,2,2,2,2,2\n"
+         ",,Rotation,Rotation,Rotation,Rotation,Position,Position,Position,Rotation,Rotation,Rotation,Rotation,"
+         "Position,Position,Position\n"
+         "Frame,Time (Seconds),X,Y,Z,W,X,Y,Z,X,Y,Z,W,X,Y,Z\n" +
+         rows;
+}
+
+// Motive exports go through the project's strict CSV splitter: the hostile cases of an edited or re-saved file.
+TEST(MotiveCsvTest, HostileCellsAndHeadersAreErrorsOrReadExactly) {
+  EXPECT_EQ(Error(TwoBodyTake()), "");
+  // One extra cell with a value beyond the 16 header columns (trailing empty cells of a spreadsheet are fine).
+  EXPECT_EQ(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n",
+                              "7,0.07,0,0,0,1,10,20,30,0,0,0,1,-5,0,1000,,,\n")), "");
+  EXPECT_THAT(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n", "7,0.07,0,0,0,1,10,20,30,0,0,0,1,-5,0,1000,4\n")),
+              HasSubstr("take.csv line 8, column 17: got '4'; expected at most 16 cells, one per header column"));
+  // A column named twice (B renamed A with A's ID would silently replace A's columns).
+  const std::string twice = std::regex_replace(TwoBodyTake(",Name,A,A,A,A,A,A,A,A,A,A,A,A,A,A\n"),
+                                               std::regex(",ID,1,1,1,1,1,1,1,2,2,2,2,2,2,2"),
+                                               ",ID,1,1,1,1,1,1,1,1,1,1,1,1,1,1");
+  EXPECT_THAT(Error(twice), HasSubstr("column 10 (Rigid Body 'A' Rotation X) repeats column 3"));
+  // Time cells that go back while the frame numbers increase: an edited or spliced file.
+  EXPECT_THAT(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n",
+                                "7,0.07,0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n"
+                                "8,0.06,0,0,0,1,11,20,30,0,0,0,1,-5,0,1001\n")),
+              HasSubstr("take.csv line 9, column 2 (Time): got '0.06'; expected a time greater than 0.07"));
+  // An unterminated quote names its line and field.
+  EXPECT_THAT(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n", "7,0.07,\"0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n")),
+              HasSubstr("take.csv line 8, field 3: unterminated quote"));
+  // A byte-order mark and quoted header cells read exactly as the plain file.
+  const std::string plain = TwoBodyTake();
+  const std::string quoted = std::regex_replace(
+      plain, std::regex("(\n|,)(Rigid Body|Rotation|Position|Frame|Name|ID|X|Y|Z|W)(?=,|\n)"), "$1\"$2\"");
+  ASSERT_NE(quoted, plain);
+  for (const std::string& text : {"\xEF\xBB\xBF" + plain, quoted}) {
+    MotiveReader a(plain, "plain.csv"), b(text, "variant.csv");
+    ASSERT_EQ(b.layout().rigid_bodies.size(), 2u);
+    MotiveRow ra, rb;
+    while (a.ReadFrame(ra)) {
+      ASSERT_TRUE(b.ReadFrame(rb));
+      EXPECT_TRUE(a.RigidBodyPose(ra, 1)->isApprox(*b.RigidBodyPose(rb, 1), 0));
+    }
+    EXPECT_FALSE(b.ReadFrame(rb));
+  }
+}
+
+// Real export 2 quotes its marker names ("ernesto_body:Marker1"): the names are read without the quotes, so the
+// markers belong to their rigid body by name (before, the quotes stayed in the name and only the ID matched).
+TEST(MotiveCsvTest, QuotedNamesInARealExportAreReadWithoutQuotes) {
+  MotiveReader reader(ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv")), "real.csv");
+  ASSERT_FALSE(reader.layout().rigid_body_markers.empty());
+  EXPECT_EQ(reader.layout().rigid_body_markers[0].name, "ernesto_body:Marker1");
+  EXPECT_EQ(reader.layout().rigid_bodies[0].id, "DF9A050D387F11EABB89D61D800D886");
+  EXPECT_EQ(reader.layout().rigid_bodies[0].marker_indices.size(), 4u);
+}
+
 TEST(MotiveCsvTest, PoseFromMarkersWhenNoRigidBody) {
   // Real export 2 has the markers ernesto_body:Marker1..4; build the pose from them and compare the motion with
   // the solved rigid body: relative motions agree to the marker noise.

@@ -95,16 +95,51 @@ TEST(TrajectoryTest, ClearErrors) {
   };
   EXPECT_THAT(error("x_m,y_m,z_m,qw,qx,qy,qz\n"), HasSubstr("no time column"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0,abc,1,0,0,0\n"),
-              HasSubstr("cmd.csv line 3: column 'z_m' is 'abc'"));
-  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0,0,0,0,1,0,0,0\n"), HasSubstr("does not increase"));
+              HasSubstr("cmd.csv line 3, column 4 (z_m): got 'abc'; expected a finite number"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0,0,0,0,1,0,0,0\n"),
+              HasSubstr("line 3, column 1 (t_s): got '0'; expected a time greater than 0"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0\n"),
-              HasSubstr("line 3: expected exactly 8 cells, one per header column, got 3"));
+              HasSubstr("line 3: 3 cells; expected exactly 8, one per header column"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.1,0,0,0,1,0,0,0,7\n"),
-              HasSubstr("line 3: expected exactly 8 cells, one per header column, got 9"));
+              HasSubstr("line 3: 9 cells; expected exactly 8, one per header column"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz,x_m\n"), HasSubstr("'x_m' appears twice (columns 2 and 9)"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n2e6,0,0,0,1,0,0,0\n"),
               HasSubstr("expected a span of at most"));
   EXPECT_THAT(error("t_s,x_m,y_m,z_m\n"), HasSubstr("no orientation columns"));
+}
+
+// The project CSV goes through the one strict CSV reader: the hostile cases of a hand-edited or spreadsheet file.
+TEST(TrajectoryTest, ProjectCsvHostileCasesAreErrorsOrReadExactly) {
+  auto error = [](const std::string& text) {
+    try {
+      ParseTrajectoryCsv(text, "ref.csv");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string header = "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
+  const std::string rows = "0,0,0,0.1,1,0,0,0\n0.1,0.2,0,0.1,1,0,0,0\n";
+  // Quoted header names and a byte-order mark read exactly as the plain file (they were "no time column").
+  const PoseTrajectory plain = ParseTrajectoryCsv(header + rows, "ref.csv");
+  const PoseTrajectory quoted =
+      ParseTrajectoryCsv("\"t_s\",\"x_m\",\"y_m\",\"z_m\",\"qw\",\"qx\",\"qy\",\"qz\"\n" + rows, "ref.csv");
+  const PoseTrajectory bom = ParseTrajectoryCsv("\xEF\xBB\xBF" + header + rows, "ref.csv");
+  ASSERT_EQ(plain.size(), 2u);
+  ASSERT_EQ(quoted.size(), 2u);
+  ASSERT_EQ(bom.size(), 2u);
+  EXPECT_EQ(quoted.p[1], plain.p[1]);
+  EXPECT_EQ(bom.p[1], plain.p[1]);
+  // One extra cell, a name twice (also an ignored one), times going back, a NaN or an unterminated quote.
+  EXPECT_THAT(error(header + rows + "0.2,0,0,0,1,0,0,0,5\n"), HasSubstr("ref.csv line 4: 9 cells; expected exactly 8"));
+  EXPECT_THAT(error("t_s,x_m,y_m,z_m,qw,qx,qy,qz,note,note\n"), HasSubstr("'note' appears twice (columns 9 and 10)"));
+  EXPECT_THAT(error(header + rows + "0.05,0,0,0,1,0,0,0\n"),
+              HasSubstr("ref.csv line 4, column 1 (t_s): got '0.05'; expected a time greater than 0.1"));
+  EXPECT_THAT(error(header + "0,0,0,nan,1,0,0,0\n0.1,0,0,0,1,0,0,0\n"),
+              HasSubstr("line 2, column 4 (z_m): got 'nan'; expected a finite number"));
+  EXPECT_THAT(error(header + "0,\"0,0,0,1,0,0,0\n"), HasSubstr("ref.csv line 2, field 2: unterminated quote"));
+  EXPECT_THAT(error(header + "1e11,0,0,0,1,0,0,0\n"), HasSubstr("expected a time in [-10000000000, 10000000000]"));
+  EXPECT_THAT(error("# only a comment\n\n"), HasSubstr("ref.csv: empty"));
 }
 
 TEST(TrajectoryTest, HeaderlessCommaSeparatedFileIsNotGuessedAsTum) {
