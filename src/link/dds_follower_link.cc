@@ -48,11 +48,8 @@ DdsFollowerLink::~DdsFollowerLink() {
 }
 
 bool DdsFollowerLink::TakeSetPoint(teleop::SetPointMessage& message, std::int64_t& arrival_ns) noexcept {
-  const std::uint64_t version = setpoint_.version();
-  if (version == setpoint_version_taken_) return false;
   SetPointArrival a;
-  if (!setpoint_.Read(a)) return false;
-  setpoint_version_taken_ = version;
+  if (!setpoint_.ReadNewer(a, setpoint_version_taken_)) return false;
   message = a.message;
   arrival_ns = a.arrival_ns;
   return true;
@@ -176,10 +173,8 @@ void DdsFollowerLink::SendLoop() {
   while (true) {
     status_wake_.Wait();
     if (stop_.load(std::memory_order_acquire)) break;
-    const std::uint64_t version = status_.version();
     teleop::FollowerStatusMessage m;
-    if (version == version_sent || !status_.Read(m)) continue;
-    version_sent = version;
+    if (!status_.ReadNewer(m, version_sent)) continue;
     geometry_msgs_msg_dds__PoseStamped_ cp{};
     ToMeasuredCp(m, frame_id, cp);
     dds_write(cp_writer_, &cp);

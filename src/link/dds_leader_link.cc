@@ -49,11 +49,7 @@ bool DdsLeaderLink::SendCommand(const teleop::StateCommandMessage& message) noex
 }
 
 bool DdsLeaderLink::TakeFollowerStatus(teleop::FollowerStatusMessage& message) noexcept {
-  const std::uint64_t version = status_.version();
-  if (version == status_version_taken_) return false;
-  if (!status_.Read(message)) return false;
-  status_version_taken_ = version;
-  return true;
+  return status_.ReadNewer(message, status_version_taken_);
 }
 
 bool DdsLeaderLink::WaitForFollower(double timeout_s) const {
@@ -88,10 +84,8 @@ void DdsLeaderLink::SendLoop() {
   while (true) {
     send_wake_.Wait();
     if (stop_.load(std::memory_order_acquire)) break;
-    const std::uint64_t version = setpoint_.version();
     teleop::SetPointMessage m;
-    if (setpoint_writer_ > 0 && version != version_sent && setpoint_.Read(m)) {
-      version_sent = version;
+    if (setpoint_writer_ > 0 && setpoint_.ReadNewer(m, version_sent)) {
       robossis_msgs_msg_dds__SetPoint_ w{};
       ToWire(m, w);
       if (dds_write(setpoint_writer_, &w) == DDS_RETCODE_OK) counters_.setpoints.fetch_add(1, std::memory_order_relaxed);

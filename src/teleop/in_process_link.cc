@@ -21,10 +21,7 @@ void InProcessLink::SendSetPoint(const SetPointMessage& message) noexcept {
 }
 
 bool InProcessLink::TakeFollowerStatus(FollowerStatusMessage& message) noexcept {
-  const std::uint64_t v = status_.version();
-  if (v == status_taken_version_ || !status_.Read(message)) return false;
-  status_taken_version_ = v;
-  return true;
+  return status_.ReadNewer(message, status_taken_version_);
 }
 
 bool InProcessLink::SendCommand(const StateCommandMessage& message) noexcept {
@@ -34,11 +31,8 @@ bool InProcessLink::SendCommand(const StateCommandMessage& message) noexcept {
 }
 
 bool InProcessLink::TakeSetPoint(SetPointMessage& message, std::int64_t& arrival_ns) noexcept {
-  const std::uint64_t v = setpoint_.version();
-  if (v == setpoint_taken_version_) return false;
   TimedSetPoint t;
-  if (!setpoint_.Read(t)) return false;
-  setpoint_taken_version_ = v;
+  if (!setpoint_.ReadNewer(t, setpoint_taken_version_)) return false;
   message = t.message;
   arrival_ns = t.arrival_ns;
   return true;

@@ -91,6 +91,35 @@ TEST(SnapshotTest, ReadersNeverSeeATornRecord) {
   EXPECT_GT(snap.version(), 0u);
 }
 
+TEST(SnapshotTest, ReadNewerHandsEachValueOutOnceAndNeverAnOlderOne) {
+  // The "latest value" hand-over of the links: a consumer taking set-points while the producer publishes. Each
+  // value read must be strictly newer than the one before (a duplicate would be a set-point taken twice).
+  Snapshot<Record> snap;
+  Record out;
+  std::uint64_t held = 0;
+  EXPECT_FALSE(snap.ReadNewer(out, held));
+  std::atomic<bool> stop{false};
+  std::thread writer([&] {
+    Record r;
+    for (std::uint64_t i = 1; !stop.load(); ++i) {
+      r.a = r.b = i;
+      snap.Publish(r);
+    }
+  });
+  std::uint64_t last = 0;
+  for (int takes = 0; takes < 100000;) {
+    if (!snap.ReadNewer(out, held)) continue;
+    ++takes;
+    ASSERT_EQ(out.a, out.b);
+    ASSERT_GT(out.a, last);  // the i-th publish is version i: the value and the version agree
+    ASSERT_EQ(held, out.a);
+    last = out.a;
+  }
+  stop = true;
+  writer.join();
+  EXPECT_FALSE(snap.ReadNewer(out, held) && out.a <= last);
+}
+
 TEST(SnapshotTest, PublishAndReadDoNotAllocate) {
   Snapshot<Record> snap;
   Record r, out;

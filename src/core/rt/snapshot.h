@@ -43,6 +43,24 @@ class Snapshot {
     }
   }
 
+  // Any reader: the value if it is newer than `last_version` (the version of the value the reader holds), which is
+  // then set to the copy's own version. The version comes from the same read as the copy (not a separate
+  // version() call), so a write between the two can never hand the same value out twice. Lock-free.
+  bool ReadNewer(T& out, std::uint64_t& last_version) const noexcept {
+    for (;;) {
+      const std::uint64_t s0 = seq_.load(std::memory_order_acquire);
+      if (s0 == 0 || s0 / 2 == last_version) return false;  // nothing yet, or nothing newer complete
+      if (s0 & 1) continue;
+      T copy;
+      LoadWords(words_, copy);
+      std::atomic_thread_fence(std::memory_order_acquire);
+      if (seq_.load(std::memory_order_relaxed) == s0) {
+        out = copy;
+        last_version = s0 / 2;
+        return true;
+      }
+    }
+  }
   // How many values were published (readers use it to tell a new value from the one they hold).
   std::uint64_t version() const noexcept { return seq_.load(std::memory_order_acquire) / 2; }
 
