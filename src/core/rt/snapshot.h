@@ -29,18 +29,8 @@ class Snapshot {
 
   // Any reader. False if nothing was published yet. Lock-free (retries only while a write overlaps).
   bool Read(T& out) const noexcept {
-    for (;;) {
-      const std::uint64_t s0 = seq_.load(std::memory_order_acquire);
-      if (s0 == 0) return false;
-      if (s0 & 1) continue;
-      T copy;
-      LoadWords(words_, copy);
-      std::atomic_thread_fence(std::memory_order_acquire);
-      if (seq_.load(std::memory_order_relaxed) == s0) {
-        out = copy;
-        return true;
-      }
-    }
+    std::uint64_t none = ~std::uint64_t{0};  // a version never reached: any published value is newer
+    return ReadNewer(out, none);
   }
 
   // Any reader: the value if it is newer than `last_version` (the version of the value the reader holds), which is
