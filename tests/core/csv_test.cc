@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -14,7 +16,9 @@ namespace {
 using ::testing::HasSubstr;
 
 std::filesystem::path WriteCsv(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("robossis_csv_test_" + name + ".csv");
+  // One file per process: CTest runs these tests in parallel processes.
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("robossis_csv_test_" + name + "_" + std::to_string(::getpid()) + ".csv");
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -52,7 +56,7 @@ TEST(NumericCsvTest, ReadsBomQuotedHeaderAndCrLf) {
 
 TEST(NumericCsvTest, ErrorsNameFileLineColumnValueAndExpectation) {
   const std::string extra = ErrorOf("t_s,x_mm\n0,1\n1,2,3\n");
-  EXPECT_THAT(extra, HasSubstr("robossis_csv_test_case.csv line 3: 3 cells; expected exactly 2"));
+  EXPECT_THAT(extra, HasSubstr(".csv line 3: 3 cells; expected exactly 2"));
   EXPECT_THAT(ErrorOf("t_s,x_mm\n0,abc\n"), HasSubstr("line 2, column 2 (x_mm): got 'abc'; expected a finite number"));
   EXPECT_THAT(ErrorOf("t_s,x_mm\n0,nan\n"), HasSubstr("got 'nan'; expected a finite number"));
   EXPECT_THAT(ErrorOf("t_s,x_mm\n0,inf\n"), HasSubstr("got 'inf'; expected a finite number"));
