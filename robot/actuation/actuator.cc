@@ -61,7 +61,9 @@ const ActuationOutput& Actuator::Tick(double time_s, const Eigen::Isometry3d& X_
     // Closed-loop correction toward IK(x): bounds the first-order error of the integration.
     const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, X_FM);
     const robot::RsrJointVector q_ik = ik.joints.actuated();
-    if (q_ik.allFinite()) q_dot += config_.ik_correction_gain_per_s * (q_ik - q_);
+    // At most the whole error in one tick (gain · dt <= 1), however long the tick: a larger gain would overshoot.
+    const double gain = dt > 0 ? std::min(config_.ik_correction_gain_per_s, 1.0 / dt) : 0.0;
+    if (q_ik.allFinite()) q_dot += gain * (q_ik - q_);
   }
 
   // eq. 16 with K = 1 in joint units: q(t) = q(t-1) + dt · q_dot(t). Shorten the step to stay legal.
@@ -101,6 +103,20 @@ const ActuationOutput& Actuator::Tick(double time_s, const Eigen::Isometry3d& X_
     out_.step_error[m] = static_cast<double>(pulses_[m].steps()) - pulses_[m].commanded_steps();
   }
   return out_;
+}
+
+void Actuator::Resync(double time_s, const robot::RsrJointVector& q) noexcept {
+  for (int m = 0; m < kNumMotors; ++m) {
+    if (!std::isfinite(q[m])) continue;
+    q_[m] = std::clamp(q[m], q_min_[m], q_max_[m]);
+    // The commanded step count s = (q - q0) · steps_per_unit stays where it is: the zero moves instead.
+    q0_[m] = q_[m] - pulses_[m].commanded_steps() / config_.motors[m].steps_per_unit;
+  }
+  time_s_ = time_s;
+  out_.command.time_s = time_s;
+  out_.command.q = q_;
+  out_.command.q_dot.setZero();
+  out_.num_events = 0;
 }
 
 }  // namespace robossis::actuation

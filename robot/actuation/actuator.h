@@ -51,9 +51,15 @@ class Actuator {
   // One 10 kHz tick: the set-point pose and twist [v; omega] (F) at `time_s`. Allocation-free.
   const ActuationOutput& Tick(double time_s, const Eigen::Isometry3d& X_FM, const Vector6d& twist_F) noexcept;
 
+  // The motors are at the joints `q` (the back end's measurement) at `time_s`, after ticks were skipped (drives
+  // off): the next tick starts from there and from that time, and the steps already issued stand for that
+  // position, so no burst of pulses makes up a difference the motors never had to travel (the motors' zero moves
+  // by it). Allocation-free.
+  void Resync(double time_s, const robot::RsrJointVector& q) noexcept;
+
   const ActuationOutput& output() const { return out_; }
   const robot::RsrJointVector& q() const { return q_; }
-  const robot::RsrJointVector& q_start() const { return q0_; }
+  const robot::RsrJointVector& q_start() const { return q0_; }  // the motors' zero (moved by Resync)
   const robot::RsrJointVector& q_min() const { return q_min_; }
   const robot::RsrJointVector& q_max() const { return q_max_; }
   const ActuationConfig& config() const { return config_; }

@@ -110,7 +110,10 @@ void FollowerUnit::Tick() noexcept {
     ++counters_.setpoints_by_verdict[static_cast<int>(verdict)];
     if (verdict == SetPointVerdict::kAccepted) {
       ++counters_.setpoints_accepted;
+      // Another leader session's poses are relative to its own start: its motion is applied from here.
+      if (has_setpoint_ && message.leader_session != setpoint_session_) need_anchor_ = true;
       has_setpoint_ = true;
+      setpoint_session_ = message.leader_session;
       setpoint_ = sample;
       setpoint_arrival_s_ = arrival_s;
       setpoint_sequence_ = message.sequence;
@@ -182,8 +185,9 @@ void FollowerUnit::Tick() noexcept {
   X_cmd_ = guarded.X_FM;
 
   // 5. Actuation (eq. 15–17) and the back end. Unpowered, no pulses are made (the drives are off: pulses made now
-  // would be counted as motion the motors never did) and the commanded pose follows the measured one, so that
-  // powering up again starts from where the robot is, without a jump.
+  // would be counted as motion the motors never did), and the commanded pose and the actuator's joints follow the
+  // measured ones, so that powering up again starts from where the robot is, without a jump, however long the
+  // drives were off and wherever the robot was pushed meanwhile.
   const actuation::ActuationOutput& out =
       machine_.powered() ? actuator_.Tick(now, X_cmd_, twist_cmd_) : actuator_.output();
   rec.command_time_s = now;
@@ -198,6 +202,7 @@ void FollowerUnit::Tick() noexcept {
   if (!machine_.powered() && ik.feasible) {
     X_cmd_ = measured.X_FM;
     twist_cmd_.setZero();
+    actuator_.Resync(now, measured.q);
   }
 
   // 6. Status (decimated) and the record.

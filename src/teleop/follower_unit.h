@@ -131,6 +131,7 @@ class FollowerUnit final : public rt::PeriodicTask {
   SetPointSample setpoint_;
   double setpoint_arrival_s_ = 0;
   std::uint64_t setpoint_sequence_ = 0;
+  std::uint64_t setpoint_session_ = 0;  // the leader session of the newest valid set-point
   std::int64_t setpoint_stamp_ns_ = 0;
   std::uint8_t setpoint_flags_ = 0;
   bool setpoint_live_ = false;  // a valid set-point within hold_after_s (for the watchdog's edge)

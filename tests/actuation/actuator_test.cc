@@ -209,5 +209,48 @@ TEST(ActuatorTest, RejectsAStartOutsideTheLimits) {
   EXPECT_THROW(Actuator(model, Config(), X), std::invalid_argument);
 }
 
+
+TEST(ActuatorTest, ALongGapBetweenTicksDoesNotOvershootTheCorrection) {
+  // The IK correction pulls q toward IK(x) by gain · dt of the error; after a gap of seconds gain · dt is far above
+  // 1, and an unbounded correction would throw the joints past IK(x) by that factor.
+  const robot::RsrModel model = robot::RsrModel::Default();
+  const Eigen::Isometry3d home = model.geometry().X_FM_home;
+  Actuator act(model, Config(), home, 0.0);
+  Eigen::Isometry3d X = home;
+  X.translation().z() += 20e-6;  // a set-point 20 um away, reached only by the correction (zero twist)
+  act.Tick(2.0, X, Vector6d::Zero());
+  const robot::RsrJointVector q_ik = robot::CalcInverseKinematics(model, X).joints.actuated();
+  EXPECT_LT((act.q() - q_ik).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(ActuatorTest, ResyncStartsFromTheMeasuredJointsWithoutABurstOfSteps) {
+  const robot::RsrModel model = robot::RsrModel::Default();
+  const Eigen::Isometry3d home = model.geometry().X_FM_home;
+  const ActuationConfig config = Config();
+  Actuator act(model, config, home, 0.0);
+  // The motors were pushed 0.2 mm along stroke 0 while the drives were off, and the actuator learns it at t = 3 s.
+  Eigen::Isometry3d X_meas = home;
+  robot::RsrJointVector q_meas = robot::CalcInverseKinematics(model, home).joints.actuated();
+  q_meas[robot::StrokeIndex(0)] += 0.2e-3;
+  X_meas = robot::CalcForwardKinematics(model, q_meas, home).X_FM;
+  std::array<std::int64_t, kNumMotors> steps_before{};
+  for (int m = 0; m < kNumMotors; ++m) steps_before[m] = act.output().steps[m];
+  act.Resync(3.0, q_meas);
+  EXPECT_EQ(act.q(), q_meas);
+  // Holding there: no pulse, no motion.
+  const ActuationOutput& out = act.Tick(3.0001, X_meas, Vector6d::Zero());
+  EXPECT_EQ(out.num_events, 0);
+  for (int m = 0; m < kNumMotors; ++m) EXPECT_EQ(out.steps[m], steps_before[m]) << "motor " << m;
+  EXPECT_LT((act.q() - q_meas).cwiseAbs().maxCoeff(), 1e-9);
+  // Moving on from there: the steps count the motion from the measured joints (eq. 17 with the moved zero).
+  Eigen::Isometry3d X_next = X_meas;
+  X_next.translation().z() += 1e-6;
+  act.Tick(3.0002, X_next, Vector6d::Zero());
+  for (int m = 0; m < kNumMotors; ++m) {
+    const double s = (act.q()[m] - act.q_start()[m]) * config.motors[m].steps_per_unit;
+    EXPECT_LE(std::abs(static_cast<double>(act.output().steps[m]) - s), 0.5 + 1e-9) << "motor " << m;
+  }
+}
+
 }  // namespace
 }  // namespace robossis::actuation
