@@ -88,6 +88,7 @@ const ActuationOutput& Actuator::Tick(double time_s, const Eigen::Isometry3d& X_
   } else if (out_.rate_flags != 0) {
     out_.status = ActuationStatus::kRateLimit;
   }
+  out_.fraction = lambda;
   q_ += lambda * dq;
   for (int i = 0; i < kNumMotors; ++i) q_[i] = std::clamp(q_[i], q_min_[i], q_max_[i]);  // rounding guard
   out_.command.time_s = time_s;
@@ -117,6 +118,7 @@ void Actuator::Resync(double time_s, const robot::RsrJointVector& q) noexcept {
   out_.command.q = q_;
   out_.command.q_dot.setZero();
   out_.num_events = 0;
+  out_.fraction = 1;
 }
 
 }  // namespace robossis::actuation

@@ -37,6 +37,7 @@ struct ActuationOutput {
   std::array<StepEvent, kMaxStepEventsPerTick> events{};  // this tick's pulses, in motor order
   int num_events = 0;
   ActuationStatus status = ActuationStatus::kOk;
+  double fraction = 1;           // the share of this tick's joint step issued (< 1: shortened at a limit or a rate)
   std::uint8_t limit_flags = 0;  // bit i: joint i was clamped at a limit this tick
   std::uint8_t rate_flags = 0;   // bit i: joint i limited the step rate this tick
 };

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "src/teleop/capped_motion.h"
+
 namespace robossis::teleop {
 
 namespace {
@@ -17,26 +19,6 @@ void StorePose(const Eigen::Isometry3d& X, std::array<double, 3>& p, std::array<
 template <int N, typename Vec>
 void StoreVector(const Vec& v, std::array<double, N>& out) noexcept {
   for (int i = 0; i < N; ++i) out[i] = v[i];
-}
-
-// The largest speed from which a motion decelerating at `accel` (one change of accel*dt per tick) still stops
-// within `distance`: the discrete form of v^2 / (2 a) + v dt / 2 = d.
-double BrakingSpeed(double distance, double accel, double dt) noexcept {
-  const double h = 0.5 * accel * dt;
-  return std::max(0.0, -h + std::sqrt(h * h + 2.0 * accel * distance));
-}
-
-// One part (linear or angular) of the next commanded velocity: towards `step` (the remaining motion to the wanted
-// pose), at most `speed`, slow enough to stop there at `accel`, and changed from `v` by at most accel*dt.
-Eigen::Vector3d NextVelocity(const Eigen::Vector3d& v, const Eigen::Vector3d& step, double speed, double accel,
-                             double dt) noexcept {
-  Eigen::Vector3d wanted = Eigen::Vector3d::Zero();
-  const double d = step.norm();
-  if (d > 0 && dt > 0) wanted = step * (std::min({speed, d / dt, BrakingSpeed(d, accel, dt)}) / d);
-  Eigen::Vector3d change = wanted - v;
-  const double n = change.norm(), max_change = accel * dt;
-  if (n > max_change) change *= max_change / n;
-  return v + change;
 }
 
 }  // namespace
@@ -163,12 +145,7 @@ void FollowerUnit::Tick() noexcept {
     } else {
       need_anchor_ = true;  // resuming re-anchors
     }
-    Vector6d twist;
-    twist.head<3>() = NextVelocity(twist_cmd_.head<3>(), remaining.head<3>(), caps.max_linear_speed_m_s,
-                                   config_.setpoint.max_linear_accel_m_s2, dt);
-    twist.tail<3>() = NextVelocity(twist_cmd_.tail<3>(), remaining.tail<3>(), caps.max_angular_speed_rad_s,
-                                   config_.setpoint.max_angular_accel_rad_s2, dt);
-    step = CapStepToSpeeds(twist * dt, caps, dt);
+    step = CapStepToSpeeds(NextCappedTwist(twist_cmd_, remaining, config_.setpoint, dt) * dt, caps, dt);
   } else {
     need_anchor_ = true;
   }
@@ -180,6 +157,7 @@ void FollowerUnit::Tick() noexcept {
     guarded = guard_.Step(X_cmd_, robot::ApplyTwistStep(X_cmd_, step));
     if (guarded.status != robot::FeasibleMotionStatus::kTracked) ++counters_.guard_constrained;
   }
+  const Eigen::Isometry3d X_before = X_cmd_;
   const Vector6d moved = robot::TwistStepBetween(X_cmd_, guarded.X_FM);
   if (dt > 0) twist_cmd_ = moved / dt;  // a tick without elapsed time (a clock that did not advance) keeps it
   X_cmd_ = guarded.X_FM;
@@ -190,6 +168,17 @@ void FollowerUnit::Tick() noexcept {
   // drives were off and wherever the robot was pushed meanwhile.
   const actuation::ActuationOutput& out =
       machine_.powered() ? actuator_.Tick(now, X_cmd_, twist_cmd_) : actuator_.output();
+  if (machine_.powered() && out.fraction < 1.0) {
+    // The motors made only part of the step (a step rate above their maximum, or a joint limit): the commanded pose
+    // is the one they reach, the forward kinematics of the actuator's joints, so that it never runs ahead of them.
+    // (A fraction of the step in pose space would not do: a step that slides along a curved limit is feasible at
+    // its end, not along its chord.) Kept only when inside the limits, else the guarded pose stands.
+    const robot::RsrFkResult fk = robot::CalcForwardKinematics(model_, out.command.q, X_cmd_);
+    if (fk.converged() && robot::IsPoseFeasible(model_, fk.X_FM)) {
+      if (dt > 0) twist_cmd_ = robot::TwistStepBetween(X_before, fk.X_FM) / dt;
+      X_cmd_ = fk.X_FM;
+    }
+  }
   rec.command_time_s = now;
   if (machine_.powered()) {
     back_end_.Command(out.command);

@@ -20,6 +20,10 @@ void LeaderConfig::Validate() const {
   if (boundary_bisection_steps < 1 || boundary_bisection_steps > 40) {
     throw std::invalid_argument("setpoint.boundary_bisection_steps: expected 1–40");
   }
+  if (!(std::isfinite(max_linear_accel_m_s2) && max_linear_accel_m_s2 > 0) ||
+      !(std::isfinite(max_angular_accel_rad_s2) && max_angular_accel_rad_s2 > 0)) {
+    throw std::invalid_argument("the follower's acceleration caps must be finite and positive");
+  }
   if (record_queue_capacity < 16) throw std::invalid_argument("recorder.queue_capacity: expected at least 16");
 }
 

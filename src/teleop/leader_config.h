@@ -15,6 +15,11 @@ struct LeaderConfig {
   haptics::DeviceLimits device;              // the device's own limits, applied by HapticDevice
   int boundary_bisection_steps = 14;         // the wire-rounding fallback: bisection toward the last set-point
   robot::FeasibleMotionConfig guard;         // the feasible-motion guard's tuning (its defaults)
+  // The follower's acceleration caps (follower.yaml `setpoint`, copied by TeleopSetup::Load: one place for each
+  // limit). The leader's set-points move within them and within the transfer's speed caps, so that the follower's
+  // validator accepts every one, at a wall too.
+  double max_linear_accel_m_s2 = 5.0;
+  double max_angular_accel_rad_s2 = 10.0;
   std::size_t record_queue_capacity = 16384; // leader records waiting for the flight recorder
   haptics::DeviceScriptOptions sim_script;   // the `sim` device's hand
 

@@ -7,6 +7,7 @@
 
 #include "robot/rsr_kinematics.h"
 #include "src/core/pose.h"
+#include "src/teleop/capped_motion.h"
 
 namespace robossis::teleop {
 
@@ -69,13 +70,16 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       R_FO_(transfer.mapping.R_FO),
       translation_scale_(transfer.mapping.translation_scale),
       transfer_every_(static_cast<int>(std::lround(config.rate_hz / transfer.rates.transfer_rate_hz))),
+      setpoint_period_s_(1.0 / transfer.rates.transfer_rate_hz),
       actuation_ratio_(transfer.rates.upsampling_ratio()),
       session_id_(session_id),
       X_goal_(X_FM_start),
       X_sent_(OnTheWire(X_FM_start)),
-      X_sent_prev_(X_sent_),
       records_(config.record_queue_capacity) {
   config.Validate();
+  follower_limits_.caps = transfer.caps;
+  follower_limits_.max_linear_accel_m_s2 = config.max_linear_accel_m_s2;
+  follower_limits_.max_angular_accel_rad_s2 = config.max_angular_accel_rad_s2;
   if (transfer_every_ < 1 ||
       std::abs(transfer_every_ * transfer.rates.transfer_rate_hz - config.rate_hz) > 1e-6 * config.rate_hz) {
     throw std::invalid_argument("leader: rate_hz " + std::to_string(config.rate_hz) +
@@ -117,24 +121,46 @@ Eigen::Isometry3d LeaderUnit::FeasibleToward(const Eigen::Isometry3d& goal, bool
   return OnTheWire(Interpolate(X_sent_, goal, lo));
 }
 
-void LeaderUnit::SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept {
+bool LeaderUnit::StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) const noexcept {
+  // Braking at the acceleration caps from `twist`, each part (linear, angular) covers |v|^2 / (2 a) along its
+  // direction. The path is checked at its middle and its end.
+  Vector6d stop;
+  stop.head<3>() = twist.head<3>() * (0.5 * twist.head<3>().norm() / follower_limits_.max_linear_accel_m_s2);
+  stop.tail<3>() = twist.tail<3>() * (0.5 * twist.tail<3>().norm() / follower_limits_.max_angular_accel_rad_s2);
+  return FeasibleOnTheWire(robot::ApplyTwistStep(X, 0.5 * stop)) && FeasibleOnTheWire(robot::ApplyTwistStep(X, stop));
+}
+
+Eigen::Isometry3d LeaderUnit::WithinFollowerCaps(const Eigen::Isometry3d& target) noexcept {
+  const double T = setpoint_period_s_;
+  Vector6d twist = NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, target), follower_limits_, T);
+  Eigen::Isometry3d X = OnTheWire(robot::ApplyTwistStep(X_sent_, twist * T));
+  if (!StopsInside(X, twist)) {
+    // From there the set-point could not stop before a limit: brake instead, on along the last set-point's own
+    // stopping path (checked when it was sent).
+    twist = NextCappedTwist(twist_sent_, Vector6d::Zero(), follower_limits_, T);
+    X = OnTheWire(robot::ApplyTwistStep(X_sent_, twist * T));
+  }
+  // Should that path still cross a boundary between its checked points, the feasible-motion guard slides along the
+  // active limits (a dead stop at the boundary would break the acceleration caps).
+  bool stopped = false;
+  if (!FeasibleOnTheWire(X)) {
+    X = FeasibleToward(guard_.Step(X_sent_, X).X_FM, stopped);
+    // The guard's slide turns the motion: within the acceleration caps where that turn is still feasible.
+    const Vector6d slid = NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, X), follower_limits_, T);
+    const Eigen::Isometry3d X_slid = OnTheWire(robot::ApplyTwistStep(X_sent_, slid * T));
+    if (FeasibleOnTheWire(X_slid)) X = X_slid;
+  }
+  twist_sent_ = robot::TwistStepBetween(X_sent_, X) / T;
+  return X;
+}
+
+void LeaderUnit::SendSetPoint(std::int64_t sample_ns) noexcept {
   SetPointMessage m;
   m.sequence = ++sequence_;
   m.leader_session = session_id_;
   m.stamp_ns = sample_ns;
   PoseToArrays(X_sent_, m.p_FM, m.q_FM);
-  if (stopped) {
-    // Stopped at the boundary: the twist is the set-point's own motion, not the transfer's.
-    const double dt = transfer_every_ * renderer_.dt();
-    const Eigen::Vector3d v = (X_sent_.translation() - X_sent_prev_.translation()) / dt;
-    const Eigen::Vector3d w = RotationVector(X_sent_.linear() * X_sent_prev_.linear().transpose()) / dt;
-    for (int i = 0; i < 3; ++i) {
-      m.twist_F[i] = v[i];
-      m.twist_F[3 + i] = w[i];
-    }
-  } else {
-    for (int i = 0; i < 6; ++i) m.twist_F[i] = sp.velocity[i];
-  }
+  for (int i = 0; i < 6; ++i) m.twist_F[i] = twist_sent_[i];
   std::uint8_t flags = 0;
   if (state_ == LeaderState::kTracking) flags |= kSetPointPresence;
   if (state_ != LeaderState::kTracking || clutched_) flags |= kSetPointClutched;
@@ -245,14 +271,13 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
       ++counters_.nonfinite_outputs;
       X = X_sent_;
     }
-    if (!FeasibleOnTheWire(X)) {  // the final check: the exact IK, on the pose as it is sent
+    if (!FeasibleOnTheWire(X)) {  // the exact IK, on the pose as it is sent
       ++counters_.ik_rejected;
       X = X_sent_;
     }
     if (stopped) ++counters_.stopped_at_boundary;
-    X_sent_prev_ = X_sent_;
-    X_sent_ = X;
-    SendSetPoint(static_cast<std::int64_t>(std::llround(s.time_s * 1e9)), transfer_.set_point(), stopped);
+    X_sent_ = WithinFollowerCaps(X);
+    SendSetPoint(static_cast<std::int64_t>(std::llround(s.time_s * 1e9)));
   }
 
   FollowerStatusMessage status;

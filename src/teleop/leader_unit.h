@@ -12,6 +12,9 @@
 // feasible-motion guard (robot/feasible_motion.h: a constrained least-squares step with every limit linearised)
 // takes it from the last set-point toward the pose the transfer asks for. Every pose is judged as the follower
 // receives it (position + quaternion); a pose that still fails the IK is never sent: the last one is repeated.
+// The set-points then move toward that pose within the follower's speed and acceleration caps (capped_motion.h,
+// the follower's own implementation), slow enough to stop there: a wall stops the set-point as smoothly as the
+// follower may move, and its validator accepts every set-point. The twist sent is the set-point's own motion.
 //
 // Operator presence (the device's button) gates everything: without it the clutch is open (the transfer ignores
 // the hand, the follower is asked to hold) and no force is displayed; with it back, the mapping re-anchors, so
@@ -38,6 +41,7 @@
 #include "src/core/rt/spsc_queue.h"
 #include "src/teleop/leader_config.h"
 #include "src/teleop/link.h"
+#include "src/teleop/setpoint_validator.h"
 
 namespace robossis::teleop {
 
@@ -131,7 +135,11 @@ class LeaderUnit final : public rt::PeriodicTask {
   bool FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept;
   // The goal if feasible, else the boundary point on the segment from the last set-point toward it.
   Eigen::Isometry3d FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept;
-  void SendSetPoint(std::int64_t sample_ns, const transfer::RsrSetPoint& sp, bool stopped) noexcept;
+  // Whether a set-point at X moving at `twist` can still stop within the acceleration caps before any limit.
+  bool StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) const noexcept;
+  // The next set-point toward the feasible `target` within the follower's caps (updates twist_sent_).
+  Eigen::Isometry3d WithinFollowerCaps(const Eigen::Isometry3d& target) noexcept;
+  void SendSetPoint(std::int64_t sample_ns) noexcept;
 
   LeaderConfig config_;
   const robot::RsrModel& model_;
@@ -143,6 +151,8 @@ class LeaderUnit final : public rt::PeriodicTask {
   Eigen::Matrix3d R_FO_;
   double translation_scale_;
   int transfer_every_;
+  double setpoint_period_s_;  // one transfer period: the interval between two set-points
+  SetPointLimits follower_limits_;  // the transfer's speed caps, the follower's acceleration caps
   int actuation_ratio_;
   std::uint64_t session_id_;
 
@@ -154,7 +164,7 @@ class LeaderUnit final : public rt::PeriodicTask {
   bool clutched_ = false;  // this tick: presence with the operator's clutch open
   Eigen::Isometry3d X_goal_;
   Eigen::Isometry3d X_sent_;
-  Eigen::Isometry3d X_sent_prev_;
+  Vector6d twist_sent_ = Vector6d::Zero();  // the last set-point's twist: its motion over one period
   std::uint64_t sequence_ = 0;
   std::uint8_t last_flags_ = 0;
   FollowerStatusMessage follower_;  // the last status the follower sent

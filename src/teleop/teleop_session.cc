@@ -34,6 +34,8 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.follower = FollowerConfig::FromYaml(config / "follower.yaml", s.transfer.caps);
   s.leader = LeaderConfig::FromYaml(config / "leader.yaml");
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
+  s.leader.max_linear_accel_m_s2 = s.follower.setpoint.max_linear_accel_m_s2;  // the follower's caps (follower.yaml)
+  s.leader.max_angular_accel_rad_s2 = s.follower.setpoint.max_angular_accel_rad_s2;
   s.follower.setpoint.setpoint_period_s = 1.0 / s.transfer.rates.transfer_rate_hz;  // one set-point per transfer tick
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
   s.config_dir = config;

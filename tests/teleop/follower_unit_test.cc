@@ -139,6 +139,44 @@ TEST_F(FollowerUnitTest, PoweringUpAgainStartsFromWhereTheMotorsAre) {
   EXPECT_LE(max_jump, 0.1 * 1e-4 * 1.5);
 }
 
+TEST_F(FollowerUnitTest, CommandsOnlyWhatTheMotorsAchieve) {
+  // Caps above what the step rate can do (100 mm/s along z): the actuator shortens the joint steps, and the
+  // commanded pose must stay with the motors instead of running ahead of them (and catching up later at the full
+  // step rate, e.g. after a hold).
+  FollowerConfig fast = config_;
+  fast.setpoint.caps.max_linear_speed_m_s = 0.1;
+  fast.setpoint.max_linear_accel_m_s2 = 100;
+  InProcessLink link(clock_);
+  actuation::PulseRecorderFollower back_end(model_, actuation_, home_, 1 << 20, 1 << 20);
+  FollowerUnit unit(model_, actuation_, fast, back_end, link, clock_);
+  StateCommandMessage c;
+  c.command = StateCommand::kEnable;
+  ASSERT_TRUE(link.operator_commands().Send(c));
+  double worst_gap = 0;
+  std::uint64_t seq = 0;
+  for (int i = 0; i < 3000; ++i) {
+    clock_.AdvanceNs(kTickNs);
+    if (i % 10 == 0) {
+      const Eigen::Vector3d p = home_.translation() + Eigen::Vector3d(0, 0, 1e-4 * (i / 10));
+      SetPointMessage m;
+      m.sequence = ++seq;
+      m.leader_session = 1;
+      m.stamp_ns = clock_.now_ns();
+      m.p_FM = {p.x(), p.y(), p.z()};
+      m.twist_F = {0, 0, 0.1, 0, 0, 0};
+      m.flags = kSetPointPresence;
+      link.SendSetPoint(m);
+    }
+    unit.Tick();
+    worst_gap = std::max(worst_gap,
+                         (unit.commanded_pose().translation() - back_end.State().X_FM.translation()).norm());
+  }
+  ASSERT_EQ(unit.state(), OperatingState::kEnabled);
+  EXPECT_GT(unit.commanded_pose().translation().z() - home_.translation().z(), 5e-3);  // it did move
+  // The motors' step quantisation (a few micrometres), not millimetres of lag.
+  EXPECT_LT(worst_gap, 20e-6);
+}
+
 TEST_F(FollowerUnitTest, AStalledTickLagsInsteadOfJumping) {
   EnableAndFollow();
   Run(0.2);

@@ -45,6 +45,10 @@ TEST_P(SessionEveryMethod, FastHandNeverDrivesTheFollowerPastALimit) {
   EXPECT_GT(s["follower_ticks"].get<double>(), 16.0 * 10000);  // the whole replay (16 s) plus the 0.5 s settle
   EXPECT_GT(s["setpoints_stopped_at_boundary"].get<double>(), 500);  // the walls were reached: the test can fail
   EXPECT_GT(s["max_follower_speed_mm_s"].get<double>(), 10.0);       // and the follower did follow
+  // At the walls too, the leader's set-points stay within the follower's speed and acceleration caps: it accepts
+  // every one and never holds for want of one (before the leader shaped them, 60-660 were rejected per method).
+  EXPECT_EQ(s["setpoints_rejected"], 0) << s["setpoints_rejected_by_reason"].dump();
+  EXPECT_EQ(s["watchdog_holds"], 0);
   EXPECT_TRUE(s["complete"].get<bool>());
   std::filesystem::remove(log);
 }
