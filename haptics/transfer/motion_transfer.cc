@@ -29,6 +29,28 @@ MotionTransfer::MotionTransfer(const TransferConfig& config, const Eigen::Isomet
   set_point_.X_FM = X_FM_start;
 }
 
+void MotionTransfer::Rebase(const Eigen::Isometry3d& X_FM) noexcept {
+  // The filters are fixed-size: rebuilding them allocates nothing, and the config was validated at construction.
+  upsampler_ = LinearUpsampler(config_.rates.upsampling_ratio(), Vector6d::Zero());
+  moving_average_ = MovingAverage(config_.filter.moving_average_window, Vector6d::Zero());
+  kalman_ = KalmanCa(dt_fast_, config_.filter.kalman_jerk_psd, config_.filter.kalman_measurement_std_m,
+                     Vector6d::Zero());
+  guard_ = CapGuard(dt_fast_, config_.caps, config_.filter.guard_position_gain_per_s,
+                    config_.filter.guard_time_constant_s, Vector6d::Zero());
+  const bool engaged = mapper_.clutch_engaged();
+  mapper_.SetClutch(false);
+  mapper_.SetClutch(engaged);  // the next engaged sample anchors
+  goal_.setZero();
+  target_.setZero();
+  fresh_since_tick_ = false;
+  stale_s_ = 0;
+  X_FM_start_ = X_FM;
+  set_point_.X_FM = X_FM;
+  set_point_.displacement.setZero();
+  set_point_.velocity.setZero();
+  set_point_.acceleration.setZero();
+}
+
 SampleVerdict MotionTransfer::PushHcSample(const HcSample& sample) noexcept {
   MappingIncrement increment;
   const SampleVerdict verdict = mapper_.Push(sample, increment);

@@ -45,6 +45,9 @@ class MotionTransfer {
 
   SampleVerdict PushHcSample(const HcSample& sample) noexcept;
   void SetClutch(bool engaged) noexcept { mapper_.SetClutch(engaged); }
+  // Starts over at rest at X_FM (the robot's measured pose, when the robot was not following): the set-point is
+  // X_FM, nothing is left in the filters, and the next engaged sample re-anchors. Counters are kept.
+  void Rebase(const Eigen::Isometry3d& X_FM) noexcept;
   void TransferTick() noexcept;                 // 1 kHz
   const RsrSetPoint& ActuationTick() noexcept;  // 10 kHz; time advances by one fast period
 

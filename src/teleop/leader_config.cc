@@ -24,6 +24,9 @@ void LeaderConfig::Validate() const {
       !(std::isfinite(max_angular_accel_rad_s2) && max_angular_accel_rad_s2 > 0)) {
     throw std::invalid_argument("the follower's acceleration caps must be finite and positive");
   }
+  if (!(follower_status_timeout_s > 0 && follower_status_timeout_s <= 10)) {
+    throw std::invalid_argument("setpoint.follower_status_timeout_ms: expected 0 < T <= 10000 ms");
+  }
   if (record_queue_capacity < 16) throw std::invalid_argument("recorder.queue_capacity: expected at least 16");
 }
 
@@ -36,7 +39,9 @@ LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
   c.device.max_torque_nm = device.PositiveNumber("max_torque_nm");
   c.device.max_gripper_force_n = device.NumberInRange("max_gripper_force_n", 0.0, 100.0);
   c.device.stale_after_s = device.PositiveNumber("stale_after_s");
-  c.boundary_bisection_steps = root.Child("setpoint").Integer("boundary_bisection_steps");
+  const ConfigNode setpoint = root.Child("setpoint");
+  c.boundary_bisection_steps = setpoint.Integer("boundary_bisection_steps");
+  c.follower_status_timeout_s = 1e-3 * setpoint.PositiveNumber("follower_status_timeout_ms");
   c.guard.Validate();
   const int capacity = root.Child("recorder").Integer("queue_capacity");
   if (capacity < 16) root.Fail("recorder.queue_capacity", "expected an integer >= 16");

@@ -20,6 +20,9 @@ struct LeaderConfig {
   // validator accepts every one, at a wall too.
   double max_linear_accel_m_s2 = 5.0;
   double max_angular_accel_rad_s2 = 10.0;
+  // A follower status older than this means the link or the follower is gone: the leader stops rendering the
+  // robot's motion ([assumed], leader.yaml; the follower publishes at 1 kHz).
+  double follower_status_timeout_s = 0.1;
   std::size_t record_queue_capacity = 16384; // leader records waiting for the flight recorder
   haptics::DeviceScriptOptions sim_script;   // the `sim` device's hand
 

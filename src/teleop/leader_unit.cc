@@ -121,6 +121,19 @@ Eigen::Isometry3d LeaderUnit::FeasibleToward(const Eigen::Isometry3d& goal, bool
   return OnTheWire(Interpolate(X_sent_, goal, lo));
 }
 
+void LeaderUnit::FollowTheMeasuredRobot(bool status_fresh) noexcept {
+  // While the robot does not follow, the set-point, the walls and the motion transfer stay with the robot as it
+  // was last measured (the leader no longer renders motion it does not make), so that nothing jumps when it
+  // follows again, wherever it was left: a hold, a fault, a restart of either unit.
+  if (status_fresh) {
+    const Eigen::Isometry3d X = OnTheWire(PoseFromArrays(follower_.p_FM, follower_.q_FM));
+    // There within the follower's caps, as every set-point: the robot may have stopped short of the last one.
+    if (X.matrix().allFinite() && FeasibleOnTheWire(X)) X_sent_ = WithinFollowerCaps(X);
+  }
+  X_goal_ = X_sent_;
+  transfer_.Rebase(X_sent_);
+}
+
 bool LeaderUnit::StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) const noexcept {
   // Braking at the acceleration caps from `twist`, each part (linear, angular) covers |v|^2 / (2 a) along its
   // direction. The path is checked at its middle and its end.
@@ -177,6 +190,20 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     state_ = LeaderState::kWaiting;
   }
   const haptics::DeviceState& s = device_.Read(now_s);
+  FollowerStatusMessage status;
+  if (link_.TakeFollowerStatus(status)) {
+    follower_ = status;
+    follower_heard_ = true;
+    last_status_ns_ = now_ns;
+    statuses_received_.fetch_add(1, std::memory_order_relaxed);
+  }
+  // The robot follows (enabled, or clutched by this leader's own flags) on a fresh status. A leader that has never
+  // heard a follower (a bench without one) renders and sends as if it did.
+  const bool status_fresh = follower_heard_ && static_cast<double>(now_ns - last_status_ns_) <=
+                                                   1e9 * config_.follower_status_timeout_s;
+  const bool robot_following =
+      !follower_heard_ || (status_fresh && (follower_.state == OperatingState::kEnabled ||
+                                            follower_.state == OperatingState::kClutched));
   if (!started_ && s.ok()) {
     // The walls' own map (used only to place a proxy or a cloud at reset) anchored where the transfer starts.
     haptics::HcToRsrMap map;
@@ -198,7 +225,17 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     else state_ = s.presence() ? LeaderState::kTracking : LeaderState::kWaiting;
   }
   clutched_ = state_ == LeaderState::kTracking && operator_clutch_.load(std::memory_order_acquire);
-  const bool tracking = state_ == LeaderState::kTracking && !clutched_;
+  const bool tracking = state_ == LeaderState::kTracking && !clutched_ && robot_following;
+  if (robot_following && !robot_was_following_) {
+    // Following resumes from the measured robot: the walls' map and the proxy start over there, with the hand.
+    haptics::HcToRsrMap map;
+    map.X_OH_anchor = s.X_OH;
+    map.X_FM_anchor = X_sent_;
+    map.scale = translation_scale_;
+    renderer_.SetMap(map);
+    renderer_.Reset(s.X_OH);
+  }
+  robot_was_following_ = robot_following;
   if (tracking != clutch_engaged_) {
     transfer_.SetClutch(tracking);  // engaging re-anchors on the next sample: no jump after a clutch or a fault
     clutch_engaged_ = tracking;
@@ -248,7 +285,10 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
 
   // The feasible set-point, sent at the transfer rate.
   bool stopped = false;
-  if (transfer_tick) {
+  if (transfer_tick && !robot_following) {
+    FollowTheMeasuredRobot(status_fresh);
+    SendSetPoint(static_cast<std::int64_t>(std::llround(s.time_s * 1e9)));
+  } else if (transfer_tick) {
     Eigen::Isometry3d X = X_sent_;
     if (started_) {
       if (const Eigen::Isometry3d* proxy = renderer_.constrained_pose(); proxy != nullptr) {
@@ -278,12 +318,6 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     if (stopped) ++counters_.stopped_at_boundary;
     X_sent_ = WithinFollowerCaps(X);
     SendSetPoint(static_cast<std::int64_t>(std::llround(s.time_s * 1e9)));
-  }
-
-  FollowerStatusMessage status;
-  if (link_.TakeFollowerStatus(status)) {
-    follower_ = status;
-    statuses_received_.fetch_add(1, std::memory_order_relaxed);
   }
 
   // The record.

@@ -16,6 +16,11 @@
 // the follower's own implementation), slow enough to stop there: a wall stops the set-point as smoothly as the
 // follower may move, and its validator accepts every set-point. The twist sent is the set-point's own motion.
 //
+// The robot's own state gates it too: while the follower is not following (not enabled, or its status is older
+// than follower_status_timeout_s), no force is displayed, the hand moves nothing, and the set-point, the walls and
+// the motion transfer stay at the robot's measured pose (FollowerStatusMessage), so that the walls follow the real
+// robot and following resumes from where it is.
+//
 // Operator presence (the device's button) gates everything: without it the clutch is open (the transfer ignores
 // the hand, the follower is asked to hold) and no force is displayed; with it back, the mapping re-anchors, so
 // nothing jumps. A device failure (failed, non-finite or stale read) zeroes the force (HapticDevice does) and
@@ -135,6 +140,8 @@ class LeaderUnit final : public rt::PeriodicTask {
   bool FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept;
   // The goal if feasible, else the boundary point on the segment from the last set-point toward it.
   Eigen::Isometry3d FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept;
+  // Not following: the set-point, the walls and the transfer stay at the robot's measured pose.
+  void FollowTheMeasuredRobot(bool status_fresh) noexcept;
   // Whether a set-point at X moving at `twist` can still stop within the acceleration caps before any limit.
   bool StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) const noexcept;
   // The next set-point toward the feasible `target` within the follower's caps (updates twist_sent_).
@@ -168,6 +175,9 @@ class LeaderUnit final : public rt::PeriodicTask {
   std::uint64_t sequence_ = 0;
   std::uint8_t last_flags_ = 0;
   FollowerStatusMessage follower_;  // the last status the follower sent
+  bool follower_heard_ = false;
+  std::int64_t last_status_ns_ = 0;  // when it arrived (this unit's clock)
+  bool robot_was_following_ = true;
   std::atomic<std::uint64_t> statuses_received_{0};
   LeaderCounters counters_;
   LeaderTickRecord record_;

@@ -59,8 +59,15 @@ class RecordingLeaderLink final : public LeaderLink {
     ++count;
     if (sent.size() < sent.capacity()) sent.push_back(m);
   }
-  bool TakeFollowerStatus(FollowerStatusMessage&) noexcept override { return false; }
+  // A follower's status, taken afresh at every tick while `follower_speaks` (none by default: a bench without one).
+  bool TakeFollowerStatus(FollowerStatusMessage& status) noexcept override {
+    if (!follower_speaks) return false;
+    status = follower;
+    return true;
+  }
   bool SendCommand(const StateCommandMessage&) noexcept override { return true; }
+  bool follower_speaks = false;
+  FollowerStatusMessage follower;
   std::vector<SetPointMessage> sent;
   SetPointMessage last;
   std::size_t count = 0;

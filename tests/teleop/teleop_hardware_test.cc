@@ -84,8 +84,10 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   sdk.Get<void (*)(unsigned)>("fake_dhd_set_buttons")(1u);  // the operator holds the presence button
   FakeDhdState start{};
   sdk.Get<void (*)(FakeDhdState*)>("fake_dhd_get_state")(&start);
-  // The hand lifts the handle 5 mm and holds it there: the ring rises, the three legs extend (~1000 steps each).
-  sdk.Get<void (*)(double, double, double)>("fake_dhd_set_hand_target")(start.p[0], start.p[1], start.p[2] + 0.005);
+  // Once the follower is enabled (the leader renders no motion before), the hand lifts the handle 5 mm and holds it
+  // there: the ring rises, the three legs extend (~1000 steps each).
+  sdk.Get<void (*)(double, double, double, double)>("fake_dhd_set_hand_target_after")(1.0, start.p[0], start.p[1],
+                                                                                        start.p[2] + 0.005);
 
   TeleopRequest request;
   request.device = std::string("dhd:lib=") + FAKE_DHD_LIBRARY;

@@ -60,6 +60,9 @@ struct Fake {
   long force_writes = 0, force_writes_held = 0;
   bool drd_open = false, drd_running = false;
   Eigen::Isometry3d hold_target = Eigen::Isometry3d::Identity();
+  double elapsed_s = 0;          // device time: one tick per force write
+  double delayed_target_at_s = -1;  // < 0: none pending
+  Eigen::Vector3d delayed_target = Eigen::Vector3d::Zero();
 };
 
 const robossis::robot::Sigma7Model& Model() {
@@ -125,6 +128,11 @@ bool Talk(char id) {
 
 void Step(const Eigen::Vector3d& f, const Eigen::Vector3d& tau) {
   Fake& s = Get();
+  s.elapsed_s += s.dt;
+  if (s.delayed_target_at_s >= 0 && s.elapsed_s >= s.delayed_target_at_s) {
+    s.target.X_OH.translation() = s.delayed_target;
+    s.delayed_target_at_s = -1;
+  }
   s.at_limit = s.sim->Step(s.dt, f, tau, s.target).at_mechanical_limit;
 }
 
@@ -350,6 +358,11 @@ void fake_dhd_set_devices(int count, const int* types, const int* serials) {
 void fake_dhd_set_tick(double dt_s) { Get().dt = dt_s; }
 void fake_dhd_set_hand_target(double x, double y, double z) {
   Get().target.X_OH.translation() = Eigen::Vector3d(x, y, z);
+}
+void fake_dhd_set_hand_target_after(double delay_s, double x, double y, double z) {
+  Fake& s = Get();
+  s.delayed_target = Eigen::Vector3d(x, y, z);
+  s.delayed_target_at_s = s.elapsed_s + delay_s;
 }
 void fake_dhd_set_hand_stiffness(double stiffness_n_per_m) {
   Fake& s = Get();

@@ -32,6 +32,8 @@ void fake_dhd_set_devices(int count, const int* types, const int* serials);
 void fake_dhd_set_tick(double dt_s);
 // Where the simulated hand pulls the handle (m, device frame), and how stiffly (N/m).
 void fake_dhd_set_hand_target(double x, double y, double z);
+// The same, once `delay_s` of device time (ticks of fake_dhd_set_tick) has passed.
+void fake_dhd_set_hand_target_after(double delay_s, double x, double y, double z);
 void fake_dhd_set_hand_stiffness(double stiffness_n_per_m);
 void fake_dhd_set_buttons(unsigned int mask);
 // The device disappears: every later call fails with DHD_ERROR_NO_DEVICE_FOUND (until fake_dhd_reset).
