@@ -4,7 +4,8 @@
 // one whole frame (snapshots, draw, present, glFinish), over the panel's simulated follower running its loops (the
 // follower unit at 10 kHz, the leader side at 1 kHz), and once with those loops stopped (the panel's cost alone).
 // Counters: p50_ms, p99_ms (over the iterations), p99_budget = p99 / 33.3 ms, and the p50 of each frame phase
-// (apps::FramePhase: update, layout, raster, present).
+// (apps::FramePhase: update, layout, raster, present); triangles = ImGui's, direct_prims = the lines and triangles
+// drawn directly (src/apps/panel/direct_draw.h).
 
 #include <benchmark/benchmark.h>
 
@@ -79,6 +80,7 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
   state.counters["raster_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kRaster)];
   state.counters["present_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kPresent)];
   state.counters["triangles"] = static_cast<double>(result.last_frame_triangles);
+  state.counters["direct_prims"] = static_cast<double>(result.last_frame_direct_primitives);
   backend.Stop();
 }
 

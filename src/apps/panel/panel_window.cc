@@ -20,6 +20,7 @@
 
 #include "geometry/live_boundary.h"
 #include "haptics/rendering/renderer_factory.h"
+#include "src/apps/panel/direct_draw.h"
 #include "src/apps/panel/robot_view.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
@@ -103,9 +104,22 @@ ImVec4 StateColor(teleop::OperatingState state) {
 }
 
 // A time series: the signals `columns` of the buffer over its window, each in its colour, with a legend.
+// What the frame's plots and 3-D view draw through OpenGL directly (direct_draw.h), refilled every frame.
+struct DirectLayers {
+  DirectRenderer renderer;
+  RobotViewBatches view;
+  std::array<DirectBatch, 3> plots;  // position, orientation, force
+  long primitive_count() const {
+    std::size_t n = view.slice.line_count() + view.bone.triangle_count();
+    for (const DirectBatch& plot : plots) n += plot.line_count() + plot.triangle_count();
+    return static_cast<long>(n);
+  }
+};
+
 template <std::size_t N>
 void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initializer_list<int> columns,
-              std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size) {
+              std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size,
+              DirectRenderer& gl, DirectBatch& lines) {
   ImGui::TextUnformatted(title);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos();
@@ -119,11 +133,12 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
   const double t0 = buffer.time_s(0), t1 = buffer.time_s(buffer.size() - 1);
   const double span = std::max(1e-6, t1 - t0);
   // Each signal is one polyline of at most one point per kPlotPixelsPerPoint pixel columns (decimated by a
-  // stride; the newest sample always ends it), 1 px wide: the software renderer's cost is per triangle, and a
-  // polyline of N points is 2(N-1) triangles where N separate segments of 1.5 px were 6N.
+  // stride; the newest sample always ends it), 1 px GL lines (direct_draw.h): the software renderer's cost is per
+  // primitive, and a polyline of N points is N-1 lines where ImGui's were 2(N-1) textured triangles.
   const std::size_t max_points = std::max<std::size_t>(2, static_cast<std::size_t>(size.x / kPlotPixelsPerPoint));
   const std::size_t stride = std::max<std::size_t>(1, (buffer.size() + max_points - 1) / max_points);
   static thread_local std::vector<ImVec2> points;  // the window thread's scratch, reused every frame
+  lines.Clear();
   auto color = colors.begin();
   for (int c : columns) {
     points.clear();
@@ -132,9 +147,10 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
       points.emplace_back(o.x + static_cast<float>((buffer.time_s(k) - t0) / span) * size.x,
                           o.y + size.y - (buffer.values(k)[c] - lo) / (hi - lo) * (size.y - 4) - 2);
     }
-    draw->AddPolyline(points.data(), static_cast<int>(points.size()), *color, ImDrawFlags_None, 1.0f);
+    lines.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
     ++color;
   }
+  gl.Submit(draw, lines);
   char range[64];
   std::snprintf(range, sizeof range, "%.2f .. %.2f", lo, hi);
   draw->AddText(ImVec2(o.x + 4, o.y + 2), IM_COL32(200, 200, 200, 255), range);
@@ -299,7 +315,7 @@ void DrawControls(panel::PanelController& panel, float height) {
   ImGui::End();
 }
 
-void DrawNumbers(panel::PanelController& panel, float x, float width, float height) {
+void DrawNumbers(panel::PanelController& panel, DirectLayers& direct, float x, float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
   ImGui::Begin("Pose and joints", nullptr, kFixedWindow);
@@ -315,18 +331,19 @@ void DrawNumbers(panel::PanelController& panel, float x, float width, float heig
   TimePlot("position (mm): commanded vs measured", pose, {0, 1, 2, 6, 7, 8}, {"cmd x", "y", "z", "meas x", "y", "z"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot);
+           plot, direct.renderer, direct.plots[0]);
   TimePlot("orientation (deg): commanded vs measured", pose, {3, 4, 5, 9, 10, 11},
            {"cmd roll", "pitch", "yaw", "meas roll", "pitch", "yaw"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot);
+           plot, direct.renderer, direct.plots[1]);
   TimePlot("force on the hand (N)", panel.wrench_plot(), {0, 1, 2}, {"Fx", "Fy", "Fz"},
-           {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot);
+           {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot,
+           direct.renderer, direct.plots[2]);
   ImGui::End();
 }
 
-void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, float x,
+void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, DirectLayers& direct, float x,
                      float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
@@ -342,8 +359,8 @@ void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, flo
   }
   if (ImGui::IsItemHovered() && ImGui::GetIO().MouseWheel != 0)  // zoom
     camera.distance_mm = std::clamp(camera.distance_mm * std::pow(0.9, ImGui::GetIO().MouseWheel), 200.0, 5000.0);
-  DrawRobotView(ImGui::GetWindowDrawList(), origin, size, camera, panel.model(), panel.view().X_FM,
-                panel.commanded_pose(), scene, panel.wrench());
+  DrawRobotView(ImGui::GetWindowDrawList(), direct.renderer, direct.view, origin, size, camera, panel.model(),
+                panel.view().X_FM, panel.commanded_pose(), scene, panel.wrench());
   ImGui::GetWindowDrawList()->AddRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), kViewFrame);
   ImGui::GetWindowDrawList()->AddText(ImVec2(origin.x + 8, origin.y + 8), IM_COL32(200, 200, 200, 255),
                                       "drag: orbit   wheel: zoom   cross: commanded centre   blue: workspace slice");
@@ -412,6 +429,7 @@ struct PanelWindow::Impl {
   RobotScene scene;
   std::unique_ptr<SliceRefresher> slices;
   GlfwSession session;
+  DirectLayers direct;  // after the session: its GL objects go before the context
   panel::ScriptPlayer script;
   std::chrono::steady_clock::time_point start;
   std::vector<double> frame_ms;
@@ -420,6 +438,7 @@ struct PanelWindow::Impl {
   long frames = 0;
   double max_hand_force_n = 0;
   long triangles = 0;
+  long direct_primitives = 0;
   bool done = false;
 };
 
@@ -463,10 +482,11 @@ bool PanelWindow::Frame() {
   const float numbers_width = std::min(560.0f, 0.33f * w);
   DrawTopBar(m.controller, w);
   DrawControls(m.controller, h);
-  DrawRobotWindow(m.controller, m.scene, 380, w - 380 - numbers_width, h);
-  DrawNumbers(m.controller, w - numbers_width, numbers_width, h);
+  DrawRobotWindow(m.controller, m.scene, m.direct, 380, w - 380 - numbers_width, h);
+  DrawNumbers(m.controller, m.direct, w - numbers_width, numbers_width, h);
   ImGui::Render();
   m.triangles = ImGui::GetDrawData()->TotalIdxCount / 3;
+  m.direct_primitives = m.direct.primitive_count();
   const auto layout_end = std::chrono::steady_clock::now();
   glViewport(0, 0, width, height);
   glClearColor(kPanelBackground[0], kPanelBackground[1], kPanelBackground[2], 1);
@@ -512,6 +532,7 @@ PanelRunResult PanelWindow::Result() const {
   result.rendering_method = m.controller.haptic().method();
   result.max_hand_force_n = m.max_hand_force_n;
   result.last_frame_triangles = m.triangles;
+  result.last_frame_direct_primitives = m.direct_primitives;
   return result;
 }
 

@@ -174,9 +174,9 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
   return edges;
 }
 
-void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
-                   const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
-                   const RobotScene& scene, const panel::HandWrench& wrench) {
+void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batches, ImVec2 origin, ImVec2 size,
+                   const panel::Camera& camera, const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
+                   const Eigen::Isometry3d& X_FM_commanded, const RobotScene& scene, const panel::HandWrench& wrench) {
   draw->PushClipRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), true);
   const Eigen::Vector3d target(0, 0, 0.5 * model.geometry().X_FM_home.translation().z());
   const Projector p = MakeProjector(origin, size, camera, target);
@@ -188,12 +188,13 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
 
   // The workspace boundary slice around the ring (positions P can reach at the current orientation).
-  // Thin, faint and many: drawn without anti-aliasing (1 px quads instead of 3 px fringed ones, a third of the
-  // pixels for the software renderer to blend).
-  const ImDrawListFlags flags = draw->Flags;
-  draw->Flags &= ~ImDrawListFlags_AntiAliasedLines;
-  for (const auto& edge : scene.slice_edges_F) Line(draw, p, edge[0], edge[1], IM_COL32(90, 200, 255, 60), 1.0f);
-  draw->Flags = flags;
+  // Thin, faint and many: 1 px GL lines without anti-aliasing (direct_draw.h).
+  batches.slice.Clear();
+  for (const auto& edge : scene.slice_edges_F) {
+    ImVec2 sa, sb;
+    if (p.Project(edge[0], sa) && p.Project(edge[1], sb)) batches.slice.AddLine(sa, sb, IM_COL32(90, 200, 255, 60));
+  }
+  gl.Submit(draw, batches.slice);
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;
@@ -202,11 +203,10 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   AddMesh(triangles, p, scene.distal_M, X_FM, Eigen::Vector3d(0.95, 0.82, 0.70));
   std::sort(triangles.begin(), triangles.end(),
             [](const ShadedTriangle& a, const ShadedTriangle& b) { return a.depth > b.depth; });
-  // Without anti-aliased edges: ImGui's fringe makes each triangle 7 (a closed mesh hides the edges anyway), and
-  // the software renderer's cost is per triangle.
-  draw->Flags &= ~ImDrawListFlags_AntiAliasedFill;
-  for (const ShadedTriangle& t : triangles) draw->AddTriangleFilled(t.a, t.b, t.c, t.color);
-  draw->Flags = flags;
+  // Opaque GL triangles without anti-aliased edges (a closed mesh hides the edges anyway; direct_draw.h).
+  batches.bone.Clear();
+  for (const ShadedTriangle& t : triangles) batches.bone.AddTriangle(t.a, t.b, t.c, t.color);
+  gl.Submit(draw, batches.bone);
 
   // Rings and arms.
   const double radius_fixed = model.p_FA(0).head<2>().norm();

@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include "robot/rsr_model.h"
+#include "src/apps/panel/direct_draw.h"
 #include "src/panel/panel_backend.h"
 #include "src/panel/panel_controller.h"
 
@@ -37,10 +38,17 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
                                                       const std::vector<Eigen::Vector3i>& triangles,
                                                       std::size_t max_edges);
 
+// The view's many-primitive parts, drawn by OpenGL directly (direct_draw.h): refilled every frame.
+struct RobotViewBatches {
+  DirectBatch slice;  // the slice's edges
+  DirectBatch bone;   // the fragments' triangles, painter's order
+};
+
 // Draws over the rectangle (origin, size) without filling it: the caller paints the background (the panel window
-// clears it with glClear, far cheaper than a filled quad on a software renderer).
-void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
-                   const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
-                   const RobotScene& scene, const panel::HandWrench& wrench);
+// clears it with glClear, far cheaper than a filled quad on a software renderer). The slice and the bone go through
+// `gl` in `batches`, which must live until the frame is rendered.
+void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batches, ImVec2 origin, ImVec2 size,
+                   const panel::Camera& camera, const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
+                   const Eigen::Isometry3d& X_FM_commanded, const RobotScene& scene, const panel::HandWrench& wrench);
 
 }  // namespace robossis::apps

@@ -1,0 +1,82 @@
+#pragma once
+// Lines and flat triangles that OpenGL draws directly, in Dear ImGui's draw order (an ImDrawList callback), for the
+// parts of the panel with thousands of primitives: the workspace slice's edges, the bone fragments and the plots.
+//
+// Why: on Mesa's software renderer (llvmpipe) the rasteriser's cost follows the primitives and the 4x4 pixel
+// blocks each one touches, not the pixels lit. An ImGui line is a quad (two triangles, each shading every block
+// along the line) through ImGui's shader (a bilinear texture fetch and blending for every pixel); a GL line is one
+// primitive, and the shader here fetches no texture, and the triangles are drawn without blending (they are opaque).
+// The picture is the same (the same screen positions and colours, in the same order), but for the plots' lines,
+// which lose ImGui's anti-aliased edges (the slice and the bone were already drawn without them).
+
+#include <vector>
+
+#include <imgui.h>
+
+namespace robossis::apps {
+
+// A vertex in ImGui's screen coordinates (pixels, y down) with ImGui's packed RGBA colour.
+struct DirectVertex {
+  float x, y;
+  ImU32 color;
+};
+
+class DirectRenderer;
+
+// One batch of primitives, filled while a frame is laid out and drawn when ImGui renders the frame: its 1 px lines
+// (blended, as ImGui blends) over its opaque triangles. It must live until the frame is rendered.
+class DirectBatch {
+ public:
+  void Clear() {
+    lines_.clear();
+    triangles_.clear();
+  }
+  // A 1 px line between pixel centres, as ImDrawList::AddLine places it.
+  void AddLine(ImVec2 a, ImVec2 b, ImU32 color) {
+    lines_.push_back({a.x + 0.5f, a.y + 0.5f, color});
+    lines_.push_back({b.x + 0.5f, b.y + 0.5f, color});
+  }
+  void AddPolyline(const ImVec2* points, int count, ImU32 color) {
+    for (int i = 1; i < count; ++i) AddLine(points[i - 1], points[i], color);
+  }
+  // An opaque triangle (the colour's alpha is ignored), as ImDrawList::AddTriangleFilled without anti-aliasing.
+  void AddTriangle(ImVec2 a, ImVec2 b, ImVec2 c, ImU32 color) {
+    triangles_.push_back({a.x, a.y, color});
+    triangles_.push_back({b.x, b.y, color});
+    triangles_.push_back({c.x, c.y, color});
+  }
+  std::size_t line_count() const { return lines_.size() / 2; }
+  std::size_t triangle_count() const { return triangles_.size() / 3; }
+
+ private:
+  friend class DirectRenderer;
+  std::vector<DirectVertex> lines_;
+  std::vector<DirectVertex> triangles_;
+  DirectRenderer* renderer_ = nullptr;
+};
+
+// The shader program and vertex buffer. Needs the window's OpenGL 3.3 context current, in construction and
+// destruction.
+class DirectRenderer {
+ public:
+  // Compiles the shaders; throws std::runtime_error with the compiler's log when they do not compile or link.
+  DirectRenderer();
+  ~DirectRenderer();
+  DirectRenderer(const DirectRenderer&) = delete;
+  DirectRenderer& operator=(const DirectRenderer&) = delete;
+
+  // Appends `batch` to `draw` at this point of its order, clipped to its current clip rectangle (and ImGui's own
+  // render state restored after it).
+  void Submit(ImDrawList* draw, DirectBatch& batch);
+
+ private:
+  static void Callback(const ImDrawList* list, const ImDrawCmd* command);
+  void Draw(const DirectBatch& batch, const ImDrawCmd& command);
+
+  unsigned program_ = 0;
+  unsigned vertex_array_ = 0;
+  unsigned vertex_buffer_ = 0;
+  int display_location_ = -1;
+};
+
+}  // namespace robossis::apps
