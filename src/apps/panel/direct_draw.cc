@@ -5,6 +5,7 @@
 #include <GL/glext.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -133,6 +134,35 @@ void DirectRenderer::Draw(const DirectBatch& batch, const ImDrawCmd& command) {
     glLineWidth(1.0f);
     glDrawArrays(GL_LINES, static_cast<GLint>(triangles), static_cast<GLsizei>(lines));
   }
+}
+
+ImageTexture::~ImageTexture() {
+  if (texture_ != 0) glDeleteTextures(1, &texture_);
+}
+
+void ImageTexture::Draw(ImDrawList* draw, const LineImage& image) {
+  if (image.width() == 0 || image.height() == 0) return;
+  if (texture_ == 0) {
+    glGenTextures(1, &texture_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // 1:1: a texel is a pixel
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  glBindTexture(GL_TEXTURE_2D, texture_);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  if (image.width() != width_ || image.height() != height_) {
+    width_ = image.width();
+    height_ = image.height();
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width_, height_, 0, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels().data());
+  } else {
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels().data());
+  }
+  const ImVec2 min(static_cast<float>(image.x0()), static_cast<float>(image.y0()));
+  draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(texture_)), min,
+                 ImVec2(min.x + static_cast<float>(width_), min.y + static_cast<float>(height_)));
 }
 
 }  // namespace robossis::apps

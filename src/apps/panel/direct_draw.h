@@ -1,17 +1,18 @@
 #pragma once
 // Lines and flat triangles that OpenGL draws directly, in Dear ImGui's draw order (an ImDrawList callback), for the
-// parts of the panel with thousands of primitives: the workspace slice's edges, the bone fragments and the plots.
+// parts of the panel with thousands of primitives (the bone fragments); and line images (line_image.h) drawn as one
+// textured quad each (the workspace slice's edges, the plots).
 //
 // Why: on Mesa's software renderer (llvmpipe) the rasteriser's cost follows the primitives and the 4x4 pixel
-// blocks each one touches, not the pixels lit. An ImGui line is a quad (two triangles, each shading every block
-// along the line) through ImGui's shader (a bilinear texture fetch and blending for every pixel); a GL line is one
-// primitive, and the shader here fetches no texture, and the triangles are drawn without blending (they are opaque).
-// The picture is the same (the same screen positions and colours, in the same order), but for the plots' lines,
-// which lose ImGui's anti-aliased edges (the slice and the bone were already drawn without them).
+// blocks each one touches, not the pixels lit. An ImGui triangle goes through ImGui's shader (a bilinear texture
+// fetch and blending for every pixel); the shader here fetches no texture, and the triangles are drawn without
+// blending (they are opaque). The picture is the same: the same screen positions and colours, in the same order.
 
 #include <vector>
 
 #include <imgui.h>
+
+#include "src/apps/panel/line_image.h"
 
 namespace robossis::apps {
 
@@ -77,6 +78,22 @@ class DirectRenderer {
   unsigned vertex_array_ = 0;
   unsigned vertex_buffer_ = 0;
   int display_location_ = -1;
+};
+
+// A LineImage as an OpenGL texture (nearest texels, drawn 1:1 at its screen place) in ImGui's draw order: one quad
+// for all its lines.
+class ImageTexture {
+ public:
+  ImageTexture() = default;
+  ~ImageTexture();  // the window's OpenGL context current
+  ImageTexture(const ImageTexture&) = delete;
+  ImageTexture& operator=(const ImageTexture&) = delete;
+  // Uploads the picture (the window's OpenGL context current) and adds it to `draw` at this point of its order.
+  void Draw(ImDrawList* draw, const LineImage& image);
+
+ private:
+  unsigned texture_ = 0;
+  int width_ = 0, height_ = 0;
 };
 
 }  // namespace robossis::apps

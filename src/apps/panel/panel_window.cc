@@ -108,10 +108,12 @@ ImVec4 StateColor(teleop::OperatingState state) {
 struct DirectLayers {
   DirectRenderer renderer;
   RobotViewBatches view;
-  std::array<DirectBatch, 3> plots;  // position, orientation, force
+  std::array<LineImage, 3> plots;  // position, orientation, force (line_image.h)
+  std::array<ImageTexture, 3> plot_textures;
+  // The lines rasterised into images and the triangles drawn directly.
   long primitive_count() const {
     std::size_t n = view.slice.line_count() + view.bone.triangle_count();
-    for (const DirectBatch& plot : plots) n += plot.line_count() + plot.triangle_count();
+    for (const LineImage& plot : plots) n += plot.line_count();
     return static_cast<long>(n);
   }
 };
@@ -119,13 +121,16 @@ struct DirectLayers {
 template <std::size_t N>
 void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initializer_list<int> columns,
               std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size,
-              DirectRenderer& gl, DirectBatch& lines) {
+              LineImage& image, ImageTexture& texture) {
   ImGui::TextUnformatted(title);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos();
-  draw->AddRectFilled(o, ImVec2(o.x + size.x, o.y + size.y), IM_COL32(20, 22, 28, 255));
+  image.Reset(o, ImVec2(o.x + size.x, o.y + size.y), IM_COL32(20, 22, 28, 255));  // the plot's background
   ImGui::Dummy(size);
-  if (buffer.size() < 2) return;
+  if (buffer.size() < 2) {
+    texture.Draw(draw, image);
+    return;
+  }
   float lo = 1e30f, hi = -1e30f;
   for (std::size_t i = 0; i < buffer.size(); ++i)
     for (int c : columns) lo = std::min(lo, buffer.values(i)[c]), hi = std::max(hi, buffer.values(i)[c]);
@@ -133,12 +138,12 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
   const double t0 = buffer.time_s(0), t1 = buffer.time_s(buffer.size() - 1);
   const double span = std::max(1e-6, t1 - t0);
   // Each signal is one polyline of at most one point per kPlotPixelsPerPoint pixel columns (decimated by a
-  // stride; the newest sample always ends it), 1 px GL lines (direct_draw.h): the software renderer's cost is per
-  // primitive, and a polyline of N points is N-1 lines where ImGui's were 2(N-1) textured triangles.
+  // stride; the newest sample always ends it), 1 px lines rasterised into the plot's image (line_image.h), drawn
+  // as one quad: the software renderer's cost is per primitive, and ImGui's polyline of N points was 2(N-1)
+  // textured triangles.
   const std::size_t max_points = std::max<std::size_t>(2, static_cast<std::size_t>(size.x / kPlotPixelsPerPoint));
   const std::size_t stride = std::max<std::size_t>(1, (buffer.size() + max_points - 1) / max_points);
   static thread_local std::vector<ImVec2> points;  // the window thread's scratch, reused every frame
-  lines.Clear();
   auto color = colors.begin();
   for (int c : columns) {
     points.clear();
@@ -147,10 +152,10 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
       points.emplace_back(o.x + static_cast<float>((buffer.time_s(k) - t0) / span) * size.x,
                           o.y + size.y - (buffer.values(k)[c] - lo) / (hi - lo) * (size.y - 4) - 2);
     }
-    lines.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
+    image.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
     ++color;
   }
-  gl.Submit(draw, lines);
+  texture.Draw(draw, image);
   char range[64];
   std::snprintf(range, sizeof range, "%.2f .. %.2f", lo, hi);
   draw->AddText(ImVec2(o.x + 4, o.y + 2), IM_COL32(200, 200, 200, 255), range);
@@ -331,15 +336,15 @@ void DrawNumbers(panel::PanelController& panel, DirectLayers& direct, float x, f
   TimePlot("position (mm): commanded vs measured", pose, {0, 1, 2, 6, 7, 8}, {"cmd x", "y", "z", "meas x", "y", "z"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot, direct.renderer, direct.plots[0]);
+           plot, direct.plots[0], direct.plot_textures[0]);
   TimePlot("orientation (deg): commanded vs measured", pose, {3, 4, 5, 9, 10, 11},
            {"cmd roll", "pitch", "yaw", "meas roll", "pitch", "yaw"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot, direct.renderer, direct.plots[1]);
+           plot, direct.plots[1], direct.plot_textures[1]);
   TimePlot("force on the hand (N)", panel.wrench_plot(), {0, 1, 2}, {"Fx", "Fy", "Fz"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot,
-           direct.renderer, direct.plots[2]);
+           direct.plots[2], direct.plot_textures[2]);
   ImGui::End();
 }
 

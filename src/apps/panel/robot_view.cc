@@ -188,13 +188,28 @@ void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batch
   Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
 
   // The workspace boundary slice around the ring (positions P can reach at the current orientation).
-  // Thin, faint and many: 1 px GL lines without anti-aliasing (direct_draw.h).
-  batches.slice.Clear();
+  // Thin, faint and many: 1 px lines without anti-aliasing, rasterised into one image over their bounding box
+  // (line_image.h) and drawn as one quad.
+  std::vector<ImVec2>& ends = batches.scratch;
+  ends.clear();
+  ImVec2 lo(origin.x + size.x, origin.y + size.y), hi = origin;
   for (const auto& edge : scene.slice_edges_F) {
     ImVec2 sa, sb;
-    if (p.Project(edge[0], sa) && p.Project(edge[1], sb)) batches.slice.AddLine(sa, sb, IM_COL32(90, 200, 255, 60));
+    if (!p.Project(edge[0], sa) || !p.Project(edge[1], sb)) continue;
+    ends.push_back(sa);
+    ends.push_back(sb);
+    for (const ImVec2& e : {sa, sb}) {
+      lo = ImVec2(std::min(lo.x, e.x), std::min(lo.y, e.y));
+      hi = ImVec2(std::max(hi.x, e.x + 1), std::max(hi.y, e.y + 1));
+    }
   }
-  gl.Submit(draw, batches.slice);
+  // Within the view only (the image's size is bounded by the view's).
+  lo = ImVec2(std::max(lo.x, origin.x), std::max(lo.y, origin.y));
+  hi = ImVec2(std::min(hi.x, origin.x + size.x), std::min(hi.y, origin.y + size.y));
+  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo);
+  for (std::size_t i = 0; i + 1 < ends.size(); i += 2)
+    batches.slice.AddLine(ends[i], ends[i + 1], IM_COL32(90, 200, 255, 60));
+  batches.slice_texture.Draw(draw, batches.slice);
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;

@@ -40,13 +40,15 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
 
 // The view's many-primitive parts, drawn by OpenGL directly (direct_draw.h): refilled every frame.
 struct RobotViewBatches {
-  DirectBatch slice;  // the slice's edges
-  DirectBatch bone;   // the fragments' triangles, painter's order
+  LineImage slice;             // the slice's edges (line_image.h)
+  ImageTexture slice_texture;  // ... drawn as one quad
+  DirectBatch bone;            // the fragments' triangles, painter's order
+  std::vector<ImVec2> scratch;  // the slice's projected edges
 };
 
 // Draws over the rectangle (origin, size) without filling it: the caller paints the background (the panel window
-// clears it with glClear, far cheaper than a filled quad on a software renderer). The slice and the bone go through
-// `gl` in `batches`, which must live until the frame is rendered.
+// clears it with glClear, far cheaper than a filled quad on a software renderer). The slice (an image of its edges)
+// and the bone (through `gl`) are drawn from `batches`, which must live until the frame is rendered.
 void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batches, ImVec2 origin, ImVec2 size,
                    const panel::Camera& camera, const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
                    const Eigen::Isometry3d& X_FM_commanded, const RobotScene& scene, const panel::HandWrench& wrench);
