@@ -31,6 +31,27 @@ out vec4 out_color;
 void main() { out_color = frag_color; }
 )";
 
+// The image, texel for pixel (nearest filtering on a 1:1 quad). A plain copy of an interpolated texture
+// coordinate's texel, so that llvmpipe can treat it as a blit.
+constexpr const char* kImageVertexShader = R"(#version 330 core
+layout(location = 0) in vec2 position;
+layout(location = 1) in vec2 uv;
+uniform vec4 display;
+out vec2 frag_uv;
+void main() {
+  frag_uv = uv;
+  gl_Position = vec4(2.0 * (position.x - display.x) / display.z - 1.0,
+                     1.0 - 2.0 * (position.y - display.y) / display.w, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kImageFragmentShader = R"(#version 330 core
+uniform sampler2D image;
+in vec2 frag_uv;
+out vec4 out_color;
+void main() { out_color = texture(image, frag_uv); }
+)";
+
 GLuint Compile(GLenum kind, const char* source) {
   const GLuint shader = glCreateShader(kind);
   glShaderSource(shader, 1, &source, nullptr);
@@ -46,32 +67,47 @@ GLuint Compile(GLenum kind, const char* source) {
   return shader;
 }
 
-}  // namespace
-
-DirectRenderer::DirectRenderer() {
-  const GLuint vertex = Compile(GL_VERTEX_SHADER, kVertexShader);
+GLuint Link(const char* vertex_source, const char* fragment_source) {
+  const GLuint vertex = Compile(GL_VERTEX_SHADER, vertex_source);
   GLuint fragment = 0;
   try {
-    fragment = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
+    fragment = Compile(GL_FRAGMENT_SHADER, fragment_source);
   } catch (...) {
     glDeleteShader(vertex);
     throw;
   }
-  program_ = glCreateProgram();
-  glAttachShader(program_, vertex);
-  glAttachShader(program_, fragment);
-  glLinkProgram(program_);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vertex);
+  glAttachShader(program, fragment);
+  glLinkProgram(program);
   glDeleteShader(vertex);
   glDeleteShader(fragment);
   GLint ok = GL_FALSE;
-  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
     char log[1024] = {};
-    glGetProgramInfoLog(program_, sizeof log, nullptr, log);
-    glDeleteProgram(program_);
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    glDeleteProgram(program);
     throw std::runtime_error(std::string("panel: the direct-draw shaders do not link: ") + log);
   }
+  return program;
+}
+
+}  // namespace
+
+DirectRenderer::DirectRenderer() {
+  program_ = Link(kVertexShader, kFragmentShader);
+  try {
+    image_program_ = Link(kImageVertexShader, kImageFragmentShader);
+  } catch (...) {
+    glDeleteProgram(program_);
+    throw;
+  }
   display_location_ = glGetUniformLocation(program_, "display");
+  image_display_location_ = glGetUniformLocation(image_program_, "display");
+  glUseProgram(image_program_);
+  glUniform1i(glGetUniformLocation(image_program_, "image"), 0);  // texture unit 0, as ImGui's
+  glUseProgram(0);
   glGenVertexArrays(1, &vertex_array_);
   glGenBuffers(1, &vertex_buffer_);
   glBindVertexArray(vertex_array_);
@@ -82,14 +118,25 @@ DirectRenderer::DirectRenderer() {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(DirectVertex),
                         reinterpret_cast<const void*>(offsetof(DirectVertex, color)));
+  glGenVertexArrays(1, &image_vertex_array_);
+  glGenBuffers(1, &image_vertex_buffer_);
+  glBindVertexArray(image_vertex_array_);
+  glBindBuffer(GL_ARRAY_BUFFER, image_vertex_buffer_);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), reinterpret_cast<const void*>(2 * sizeof(float)));
   glBindVertexArray(0);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
 DirectRenderer::~DirectRenderer() {
   glDeleteBuffers(1, &vertex_buffer_);
+  glDeleteBuffers(1, &image_vertex_buffer_);
+  glDeleteVertexArrays(1, &image_vertex_array_);
   glDeleteVertexArrays(1, &vertex_array_);
   glDeleteProgram(program_);
+  glDeleteProgram(image_program_);
 }
 
 void DirectRenderer::Submit(ImDrawList* draw, DirectBatch& batch) {
@@ -99,23 +146,65 @@ void DirectRenderer::Submit(ImDrawList* draw, DirectBatch& batch) {
   draw->AddCallback(ImDrawCallback_ResetRenderState, nullptr);  // ImGui's program, buffers and blending again
 }
 
+void DirectRenderer::Submit(ImDrawList* draw, ImageTexture& image) {
+  if (image.width_ == 0 || image.height_ == 0) return;
+  image.renderer_ = this;
+  draw->AddCallback(&DirectRenderer::ImageCallback, &image);
+  draw->AddCallback(ImDrawCallback_ResetRenderState, nullptr);
+}
+
+void DirectRenderer::ImageCallback(const ImDrawList*, const ImDrawCmd* command) {
+  const auto* image = static_cast<const ImageTexture*>(command->UserCallbackData);
+  image->renderer_->Draw(*image, *command);
+}
+
+bool DirectRenderer::Clip(const ImDrawCmd& command, float display[4]) const {
+  const ImDrawData* data = ImGui::GetDrawData();
+  const ImVec2 pos = data->DisplayPos, size = data->DisplaySize, scale = data->FramebufferScale;
+  // The clip rectangle in framebuffer pixels, rows from the bottom (as ImGui's OpenGL 3 back end sets it).
+  const float x0 = (command.ClipRect.x - pos.x) * scale.x, y0 = (command.ClipRect.y - pos.y) * scale.y;
+  const float x1 = (command.ClipRect.z - pos.x) * scale.x, y1 = (command.ClipRect.w - pos.y) * scale.y;
+  if (x1 <= x0 || y1 <= y0) return false;
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(static_cast<GLint>(x0), static_cast<GLint>(size.y * scale.y - y1), static_cast<GLsizei>(x1 - x0),
+            static_cast<GLsizei>(y1 - y0));
+  display[0] = pos.x;
+  display[1] = pos.y;
+  display[2] = size.x;
+  display[3] = size.y;
+  return true;
+}
+
+void DirectRenderer::Draw(const ImageTexture& image, const ImDrawCmd& command) {
+  float display[4];
+  if (!Clip(command, display)) return;
+  const ImDrawData* data = ImGui::GetDrawData();
+  if (data->FramebufferScale.x != 1 || data->FramebufferScale.y != 1) return;  // 1:1 texels need a 1:1 framebuffer
+  glUseProgram(image_program_);
+  glUniform4f(image_display_location_, display[0], display[1], display[2], display[3]);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, image.texture_);
+  const float x0 = static_cast<float>(image.x0_), y0 = static_cast<float>(image.y0_);
+  const float x1 = x0 + static_cast<float>(image.width_), y1 = y0 + static_cast<float>(image.height_);
+  const float quad[6][4] = {{x0, y0, 0, 0}, {x1, y0, 1, 0}, {x1, y1, 1, 1},
+                            {x0, y0, 0, 0}, {x1, y1, 1, 1}, {x0, y1, 0, 1}};  // x, y, u, v
+  glBindVertexArray(image_vertex_array_);
+  glBindBuffer(GL_ARRAY_BUFFER, image_vertex_buffer_);
+  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STREAM_DRAW);
+  glDisable(GL_BLEND);  // opaque
+  glDrawArrays(GL_TRIANGLES, 0, 6);
+}
+
 void DirectRenderer::Callback(const ImDrawList*, const ImDrawCmd* command) {
   const auto* batch = static_cast<const DirectBatch*>(command->UserCallbackData);
   batch->renderer_->Draw(*batch, *command);
 }
 
 void DirectRenderer::Draw(const DirectBatch& batch, const ImDrawCmd& command) {
-  const ImDrawData* data = ImGui::GetDrawData();
-  const ImVec2 pos = data->DisplayPos, size = data->DisplaySize, scale = data->FramebufferScale;
-  // The clip rectangle in framebuffer pixels, rows from the bottom (as ImGui's OpenGL 3 back end sets it).
-  const float x0 = (command.ClipRect.x - pos.x) * scale.x, y0 = (command.ClipRect.y - pos.y) * scale.y;
-  const float x1 = (command.ClipRect.z - pos.x) * scale.x, y1 = (command.ClipRect.w - pos.y) * scale.y;
-  if (x1 <= x0 || y1 <= y0) return;
-  glEnable(GL_SCISSOR_TEST);
-  glScissor(static_cast<GLint>(x0), static_cast<GLint>(size.y * scale.y - y1), static_cast<GLsizei>(x1 - x0),
-            static_cast<GLsizei>(y1 - y0));
+  float display[4];
+  if (!Clip(command, display)) return;
   glUseProgram(program_);
-  glUniform4f(display_location_, pos.x, pos.y, size.x, size.y);
+  glUniform4f(display_location_, display[0], display[1], display[2], display[3]);
   glBindVertexArray(vertex_array_);
   glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
   const std::size_t lines = batch.lines_.size(), triangles = batch.triangles_.size();
@@ -140,7 +229,7 @@ ImageTexture::~ImageTexture() {
   if (texture_ != 0) glDeleteTextures(1, &texture_);
 }
 
-void ImageTexture::Draw(ImDrawList* draw, const LineImage& image) {
+void ImageTexture::Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image) {
   if (image.width() == 0 || image.height() == 0) return;
   if (texture_ == 0) {
     glGenTextures(1, &texture_);
@@ -153,6 +242,8 @@ void ImageTexture::Draw(ImDrawList* draw, const LineImage& image) {
   glBindTexture(GL_TEXTURE_2D, texture_);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  x0_ = image.x0();
+  y0_ = image.y0();
   if (image.width() != width_ || image.height() != height_) {
     width_ = image.width();
     height_ = image.height();
@@ -160,9 +251,7 @@ void ImageTexture::Draw(ImDrawList* draw, const LineImage& image) {
   } else {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels().data());
   }
-  const ImVec2 min(static_cast<float>(image.x0()), static_cast<float>(image.y0()));
-  draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(texture_)), min,
-                 ImVec2(min.x + static_cast<float>(width_), min.y + static_cast<float>(height_)));
+  gl.Submit(draw, *this);
 }
 
 }  // namespace robossis::apps

@@ -41,7 +41,6 @@ constexpr ImGuiWindowFlags kFixedWindow =
 // The background colour glClear paints, the 3-D view's too: the view is told apart by a frame, not by a fill of its
 // own (a scissored glClear is a drawn quad on Mesa's software renderer, measured at 3.8 ms of a 1920x1080 frame's
 // rasteriser time, where the whole-window clear is 2.8 ms).
-constexpr float kPanelBackground[3] = {0.1f, 0.1f, 0.12f};
 constexpr ImU32 kViewFrame = IM_COL32(70, 78, 96, 255);
 // [assumed] plot resolution: one point per this many pixel columns (a 540 px plot shows 270 points of its 10 s).
 constexpr float kPlotPixelsPerPoint = 2.0f;
@@ -121,14 +120,14 @@ struct DirectLayers {
 template <std::size_t N>
 void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initializer_list<int> columns,
               std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size,
-              LineImage& image, ImageTexture& texture) {
+              DirectRenderer& gl, LineImage& image, ImageTexture& texture) {
   ImGui::TextUnformatted(title);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos();
   image.Reset(o, ImVec2(o.x + size.x, o.y + size.y), IM_COL32(20, 22, 28, 255));  // the plot's background
   ImGui::Dummy(size);
   if (buffer.size() < 2) {
-    texture.Draw(draw, image);
+    texture.Draw(draw, gl, image);
     return;
   }
   float lo = 1e30f, hi = -1e30f;
@@ -155,7 +154,7 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
     image.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
     ++color;
   }
-  texture.Draw(draw, image);
+  texture.Draw(draw, gl, image);
   char range[64];
   std::snprintf(range, sizeof range, "%.2f .. %.2f", lo, hi);
   draw->AddText(ImVec2(o.x + 4, o.y + 2), IM_COL32(200, 200, 200, 255), range);
@@ -336,15 +335,15 @@ void DrawNumbers(panel::PanelController& panel, DirectLayers& direct, float x, f
   TimePlot("position (mm): commanded vs measured", pose, {0, 1, 2, 6, 7, 8}, {"cmd x", "y", "z", "meas x", "y", "z"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot, direct.plots[0], direct.plot_textures[0]);
+           plot, direct.renderer, direct.plots[0], direct.plot_textures[0]);
   TimePlot("orientation (deg): commanded vs measured", pose, {3, 4, 5, 9, 10, 11},
            {"cmd roll", "pitch", "yaw", "meas roll", "pitch", "yaw"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot, direct.plots[1], direct.plot_textures[1]);
+           plot, direct.renderer, direct.plots[1], direct.plot_textures[1]);
   TimePlot("force on the hand (N)", panel.wrench_plot(), {0, 1, 2}, {"Fx", "Fy", "Fz"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot,
-           direct.plots[2], direct.plot_textures[2]);
+           direct.renderer, direct.plots[2], direct.plot_textures[2]);
   ImGui::End();
 }
 
@@ -494,7 +493,9 @@ bool PanelWindow::Frame() {
   m.direct_primitives = m.direct.primitive_count();
   const auto layout_end = std::chrono::steady_clock::now();
   glViewport(0, 0, width, height);
-  glClearColor(kPanelBackground[0], kPanelBackground[1], kPanelBackground[2], 1);
+  glClearColor(static_cast<float>((kPanelBackground >> IM_COL32_R_SHIFT) & 0xFF) / 255,
+               static_cast<float>((kPanelBackground >> IM_COL32_G_SHIFT) & 0xFF) / 255,
+               static_cast<float>((kPanelBackground >> IM_COL32_B_SHIFT) & 0xFF) / 255, 1);
   glClear(GL_COLOR_BUFFER_BIT);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();  // the rasterisation, apart from the present below

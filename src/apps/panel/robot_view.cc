@@ -181,15 +181,10 @@ void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batch
   const Eigen::Vector3d target(0, 0, 0.5 * model.geometry().X_FM_home.translation().z());
   const Projector p = MakeProjector(origin, size, camera, target);
 
-  // The frame F.
-  const Eigen::Vector3d o = Eigen::Vector3d::Zero();
-  Line(draw, p, o, Eigen::Vector3d(0.08, 0, 0), IM_COL32(230, 80, 80, 255), 2);
-  Line(draw, p, o, Eigen::Vector3d(0, 0.08, 0), IM_COL32(80, 230, 80, 255), 2);
-  Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
-
   // The workspace boundary slice around the ring (positions P can reach at the current orientation).
   // Thin, faint and many: 1 px lines without anti-aliasing, rasterised into one image over their bounding box
-  // (line_image.h) and drawn as one quad.
+  // (line_image.h), blended there over the panel's background, and drawn as one opaque quad (so first: it covers
+  // what was drawn before it in its box).
   std::vector<ImVec2>& ends = batches.scratch;
   ends.clear();
   ImVec2 lo(origin.x + size.x, origin.y + size.y), hi = origin;
@@ -206,10 +201,16 @@ void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batch
   // Within the view only (the image's size is bounded by the view's).
   lo = ImVec2(std::max(lo.x, origin.x), std::max(lo.y, origin.y));
   hi = ImVec2(std::min(hi.x, origin.x + size.x), std::min(hi.y, origin.y + size.y));
-  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo);
+  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo, kPanelBackground);
   for (std::size_t i = 0; i + 1 < ends.size(); i += 2)
     batches.slice.AddLine(ends[i], ends[i + 1], IM_COL32(90, 200, 255, 60));
-  batches.slice_texture.Draw(draw, batches.slice);
+  batches.slice_texture.Draw(draw, gl, batches.slice);
+
+  // The frame F.
+  const Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  Line(draw, p, o, Eigen::Vector3d(0.08, 0, 0), IM_COL32(230, 80, 80, 255), 2);
+  Line(draw, p, o, Eigen::Vector3d(0, 0.08, 0), IM_COL32(80, 230, 80, 255), 2);
+  Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;

@@ -16,6 +16,9 @@
 
 namespace robossis::apps {
 
+// The panel's background, which glClear paints and the 3-D view shares (its slice image is opaque over it).
+inline constexpr ImU32 kPanelBackground = IM_COL32(26, 26, 31, 255);
+
 // A mesh reduced for drawing: vertices and triangles (in its own frame).
 struct DrawMesh {
   std::vector<Eigen::Vector3d> vertices;
