@@ -254,4 +254,8 @@ void ImageTexture::Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& i
   gl.Submit(draw, *this);
 }
 
+void ImageTexture::Redraw(ImDrawList* draw, DirectRenderer& gl) {
+  if (texture_ != 0) gl.Submit(draw, *this);
+}
+
 }  // namespace robossis::apps

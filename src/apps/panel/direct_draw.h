@@ -101,6 +101,8 @@ class ImageTexture {
   ImageTexture& operator=(const ImageTexture&) = delete;
   // Uploads the picture (the window's OpenGL context current) and adds it to `draw` at this point of its order.
   void Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image);
+  // Adds the picture last uploaded again (nothing when none was).
+  void Redraw(ImDrawList* draw, DirectRenderer& gl);
 
  private:
   friend class DirectRenderer;

@@ -192,10 +192,12 @@ class SliceRefresher {
     options.dexterous_resolution_m = kSliceDrawResolutionM;
     boundary_ = std::make_unique<geometry::LiveBoundary>(rsr, hc, options);
   }
-  // Starts a regeneration at `rpy` when the drawn slice is too far from it; takes a finished one into `edges`.
-  void Poll(const Eigen::Vector3d& rpy, std::vector<std::array<Eigen::Vector3d, 2>>& edges) {
+  // Starts a regeneration at `rpy` when the drawn slice is too far from it; takes a finished one into `edges` and
+  // counts it in `generation`.
+  void Poll(const Eigen::Vector3d& rpy, std::vector<std::array<Eigen::Vector3d, 2>>& edges, std::uint64_t& generation) {
     if (pending_.valid() && pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       edges = pending_.get();
+      ++generation;
     }
     if (!pending_.valid() && (!generated_ || (rpy - generated_rpy_).cwiseAbs().maxCoeff() > kSliceRefreshRad)) {
       generated_ = true;
@@ -480,7 +482,8 @@ bool PanelWindow::Frame() {
   const auto update_end = std::chrono::steady_clock::now();
   const panel::HandWrench& wrench = m.controller.wrench();
   m.max_hand_force_n = std::max(m.max_hand_force_n, std::hypot(wrench.force_n[0], wrench.force_n[1], wrench.force_n[2]));
-  if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F);
+  if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F,
+                                 m.scene.slice_generation);
 
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();

@@ -107,6 +107,30 @@ void AddMesh(std::vector<ShadedTriangle>& out, const Projector& p, const DrawMes
   }
 }
 
+// The slice's edges as one image over their bounding box within the view, blended over the panel's background.
+void DrawSliceImage(const Projector& p, ImVec2 origin, ImVec2 size, const RobotScene& scene,
+                    RobotViewBatches& batches) {
+  std::vector<ImVec2>& ends = batches.scratch;
+  ends.clear();
+  ImVec2 lo(origin.x + size.x, origin.y + size.y), hi = origin;
+  for (const auto& edge : scene.slice_edges_F) {
+    ImVec2 sa, sb;
+    if (!p.Project(edge[0], sa) || !p.Project(edge[1], sb)) continue;
+    ends.push_back(sa);
+    ends.push_back(sb);
+    for (const ImVec2& e : {sa, sb}) {
+      lo = ImVec2(std::min(lo.x, e.x), std::min(lo.y, e.y));
+      hi = ImVec2(std::max(hi.x, e.x + 1), std::max(hi.y, e.y + 1));
+    }
+  }
+  // Within the view only (the image's size is bounded by the view's).
+  lo = ImVec2(std::max(lo.x, origin.x), std::max(lo.y, origin.y));
+  hi = ImVec2(std::min(hi.x, origin.x + size.x), std::min(hi.y, origin.y + size.y));
+  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo, kPanelBackground);
+  for (std::size_t i = 0; i + 1 < ends.size(); i += 2)
+    batches.slice.AddLine(ends[i], ends[i + 1], IM_COL32(90, 200, 255, 60));
+}
+
 }  // namespace
 
 DrawMesh ReduceForDrawing(const std::vector<Eigen::Vector3d>& vertices,
@@ -185,26 +209,16 @@ void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batch
   // Thin, faint and many: 1 px lines without anti-aliasing, rasterised into one image over their bounding box
   // (line_image.h), blended there over the panel's background, and drawn as one opaque quad (so first: it covers
   // what was drawn before it in its box).
-  std::vector<ImVec2>& ends = batches.scratch;
-  ends.clear();
-  ImVec2 lo(origin.x + size.x, origin.y + size.y), hi = origin;
-  for (const auto& edge : scene.slice_edges_F) {
-    ImVec2 sa, sb;
-    if (!p.Project(edge[0], sa) || !p.Project(edge[1], sb)) continue;
-    ends.push_back(sa);
-    ends.push_back(sb);
-    for (const ImVec2& e : {sa, sb}) {
-      lo = ImVec2(std::min(lo.x, e.x), std::min(lo.y, e.y));
-      hi = ImVec2(std::max(hi.x, e.x + 1), std::max(hi.y, e.y + 1));
-    }
+  const RobotViewBatches::SliceKey key{scene.slice_generation, camera.azimuth_deg, camera.elevation_deg,
+                                       camera.distance_mm, origin.x, origin.y, size.x, size.y};
+  if (batches.slice_drawn && key == batches.slice_key) {
+    batches.slice_texture.Redraw(draw, gl);  // the same picture as the last frame's
+  } else {
+    DrawSliceImage(p, origin, size, scene, batches);
+    batches.slice_texture.Draw(draw, gl, batches.slice);
+    batches.slice_key = key;
+    batches.slice_drawn = true;
   }
-  // Within the view only (the image's size is bounded by the view's).
-  lo = ImVec2(std::max(lo.x, origin.x), std::max(lo.y, origin.y));
-  hi = ImVec2(std::min(hi.x, origin.x + size.x), std::min(hi.y, origin.y + size.y));
-  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo, kPanelBackground);
-  for (std::size_t i = 0; i + 1 < ends.size(); i += 2)
-    batches.slice.AddLine(ends[i], ends[i + 1], IM_COL32(90, 200, 255, 60));
-  batches.slice_texture.Draw(draw, gl, batches.slice);
 
   // The frame F.
   const Eigen::Vector3d o = Eigen::Vector3d::Zero();

@@ -4,6 +4,7 @@
 // workspace boundary slice around the ring, and the force and torque on the hand as arrows at the ring's centre.
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -30,6 +31,7 @@ struct RobotScene {
   DrawMesh distal_M;    // fixed to the moving ring
   // The boundary of the dexterous slice at the current orientation: the positions the ring centre P can reach (F).
   std::vector<std::array<Eigen::Vector3d, 2>> slice_edges_F;
+  std::uint64_t slice_generation = 0;  // counts the changes of slice_edges_F
 };
 
 // A coarser closed mesh of at most `max_triangles` (vertex clustering on a grid), for a frame-time budget on a
@@ -45,6 +47,16 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
 struct RobotViewBatches {
   LineImage slice;             // the slice's edges (line_image.h)
   ImageTexture slice_texture;  // ... drawn as one quad
+  // What the slice image was drawn for: it is drawn again only when one of them changes (the slice is in F: the
+  // moving ring does not move it).
+  struct SliceKey {
+    std::uint64_t generation = 0;
+    double azimuth_deg = 0, elevation_deg = 0, distance_mm = 0;
+    float x = 0, y = 0, width = 0, height = 0;
+    bool operator==(const SliceKey&) const = default;
+  };
+  SliceKey slice_key;
+  bool slice_drawn = false;
   DirectBatch bone;            // the fragments' triangles, painter's order
   std::vector<ImVec2> scratch;  // the slice's projected edges
 };
