@@ -52,6 +52,18 @@ TEST(LineImage, TheBackgroundFillsThePictureAndOpaqueLinesReplaceIt) {
   EXPECT_EQ(image.At(1, 1), kRed);
 }
 
+TEST(LineImage, TheRowsALineLitAreKnownUntilTheNextReset) {
+  LineImage image;
+  image.Reset(ImVec2(0, 10), ImVec2(8, 20));
+  image.AddLine(ImVec2(0, 13), ImVec2(8, 13), kRed);  // row 3 of the picture
+  image.AddLine(ImVec2(2, 30), ImVec2(6, 30), kRed);  // below it: lights nothing
+  for (int y = 0; y < 10; ++y) EXPECT_EQ(image.row_lit(y), y == 3) << y;
+  EXPECT_FALSE(image.row_lit(-1));
+  EXPECT_FALSE(image.row_lit(10));
+  image.Reset(ImVec2(0, 10), ImVec2(8, 20));
+  EXPECT_FALSE(image.row_lit(3));
+}
+
 // Two translucent lines over one pixel, then the image over a background with ImGui's blending (source alpha, one
 // minus source alpha), give what the two lines blended straight onto the background give.
 TEST(LineImage, TranslucentLinesComposeAsIfDrawnOneAfterTheOther) {

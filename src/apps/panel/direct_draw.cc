@@ -4,6 +4,8 @@
 #include <GLFW/glfw3.h>      // GL/gl.h
 #include <GL/glext.h>
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -184,15 +186,24 @@ void DirectRenderer::Draw(const ImageTexture& image, const ImDrawCmd& command) {
   glUniform4f(image_display_location_, display[0], display[1], display[2], display[3]);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, image.texture_);
-  const float x0 = static_cast<float>(image.x0_), y0 = static_cast<float>(image.y0_);
-  const float x1 = x0 + static_cast<float>(image.width_), y1 = y0 + static_cast<float>(image.height_);
-  const float quad[6][4] = {{x0, y0, 0, 0}, {x1, y0, 1, 0}, {x1, y1, 1, 1},
-                            {x0, y0, 0, 0}, {x1, y1, 1, 1}, {x0, y1, 0, 1}};  // x, y, u, v
+  if (image.bands_.empty()) return;
+  const float x0 = static_cast<float>(image.x0_), x1 = x0 + static_cast<float>(image.width_);
+  const float h = static_cast<float>(image.height_);
+  std::vector<std::array<float, 4>>& quads = image_vertices_;  // x, y, u, v
+  quads.clear();
+  for (const std::array<int, 2>& band : image.bands_) {
+    const float y0 = static_cast<float>(image.y0_ + band[0]), y1 = static_cast<float>(image.y0_ + band[1]);
+    const float v0 = static_cast<float>(band[0]) / h, v1 = static_cast<float>(band[1]) / h;
+    for (const std::array<float, 4>& corner : {std::array<float, 4>{x0, y0, 0, v0}, {x1, y0, 1, v0}, {x1, y1, 1, v1},
+                                               {x0, y0, 0, v0}, {x1, y1, 1, v1}, {x0, y1, 0, v1}})
+      quads.push_back(corner);
+  }
   glBindVertexArray(image_vertex_array_);
   glBindBuffer(GL_ARRAY_BUFFER, image_vertex_buffer_);
-  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads.size() * sizeof(quads[0])), quads.data(),
+               GL_STREAM_DRAW);
   glDisable(GL_BLEND);  // opaque
-  glDrawArrays(GL_TRIANGLES, 0, 6);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(quads.size()));
 }
 
 void DirectRenderer::Callback(const ImDrawList*, const ImDrawCmd* command) {
@@ -229,7 +240,7 @@ ImageTexture::~ImageTexture() {
   if (texture_ != 0) glDeleteTextures(1, &texture_);
 }
 
-void ImageTexture::Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image) {
+void ImageTexture::Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image, bool only_lit_rows) {
   if (image.width() == 0 || image.height() == 0) return;
   if (texture_ == 0) {
     glGenTextures(1, &texture_);
@@ -244,6 +255,17 @@ void ImageTexture::Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& i
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   x0_ = image.x0();
   y0_ = image.y0();
+  bands_.clear();
+  for (int first = 0; first < image.height(); first += kBandRows) {
+    const int end = std::min(image.height(), first + kBandRows);
+    bool lit = !only_lit_rows;
+    for (int y = first; y < end && !lit; ++y) lit = image.row_lit(y);
+    if (!lit) continue;
+    if (!bands_.empty() && bands_.back()[1] == first)
+      bands_.back()[1] = end;  // one quad for neighbouring bands
+    else
+      bands_.push_back({first, end});
+  }
   if (image.width() != width_ || image.height() != height_) {
     width_ = image.width();
     height_ = image.height();

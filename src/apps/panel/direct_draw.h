@@ -8,6 +8,7 @@
 // fetch and blending for every pixel); the shader here fetches no texture, and the triangles are drawn without
 // blending (they are opaque). The picture is the same: the same screen positions and colours, in the same order.
 
+#include <array>
 #include <vector>
 
 #include <imgui.h>
@@ -83,6 +84,7 @@ class DirectRenderer {
 
   unsigned image_program_ = 0;  // the texel at the interpolated coordinate, nearest
   unsigned image_vertex_array_ = 0, image_vertex_buffer_ = 0;
+  std::vector<std::array<float, 4>> image_vertices_;  // scratch, reused every frame
   int image_display_location_ = -1;
   unsigned program_ = 0;
   unsigned vertex_array_ = 0;
@@ -100,7 +102,10 @@ class ImageTexture {
   ImageTexture(const ImageTexture&) = delete;
   ImageTexture& operator=(const ImageTexture&) = delete;
   // Uploads the picture (the window's OpenGL context current) and adds it to `draw` at this point of its order.
-  void Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image);
+  // With only_lit_rows, only the bands of kBandRows rows where a line lit a pixel are drawn: for a picture whose
+  // background is the one glClear already painted, the same picture with fewer pixels to shade.
+  void Draw(ImDrawList* draw, DirectRenderer& gl, const LineImage& image, bool only_lit_rows = false);
+  static constexpr int kBandRows = 8;  // [assumed] two 4x4 rasteriser blocks high
   // Adds the picture last uploaded again (nothing when none was).
   void Redraw(ImDrawList* draw, DirectRenderer& gl);
 
@@ -109,6 +114,7 @@ class ImageTexture {
   DirectRenderer* renderer_ = nullptr;
   unsigned texture_ = 0;
   int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
+  std::vector<std::array<int, 2>> bands_;  // the row ranges [first, end) to draw
 };
 
 }  // namespace robossis::apps

@@ -12,6 +12,7 @@ void LineImage::Reset(ImVec2 min, ImVec2 max, ImU32 background) {
   height_ = std::max(0, static_cast<int>(std::ceil(max.y)) - y0_);
   lines_ = 0;
   pixels_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), background);
+  lit_rows_.assign(static_cast<std::size_t>(height_), 0);
 }
 
 ImU32 LineImage::At(int x, int y) const {
@@ -25,6 +26,7 @@ void LineImage::Blend(int x, int y, ImU32 color) {
   x -= x0_;
   y -= y0_;
   if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+  lit_rows_[static_cast<std::size_t>(y)] = 1;
   ImU32& pixel = pixels_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)];
   const unsigned a = (color >> IM_COL32_A_SHIFT) & 0xFF;
   if (a == 255 || pixel == 0) {

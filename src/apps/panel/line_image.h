@@ -33,6 +33,8 @@ class LineImage {
   std::size_t line_count() const { return lines_; }
   // Row-major from the top, ImGui's packed RGBA (straight alpha).
   const std::vector<ImU32>& pixels() const { return pixels_; }
+  // Whether a line lit a pixel of row y (from the top of the picture) since Reset.
+  bool row_lit(int y) const { return y >= 0 && y < height_ && lit_rows_[static_cast<std::size_t>(y)] != 0; }
   // The pixel at screen position (x, y); 0 outside the picture.
   ImU32 At(int x, int y) const;
 
@@ -42,6 +44,7 @@ class LineImage {
   int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::size_t lines_ = 0;
   std::vector<ImU32> pixels_;
+  std::vector<std::uint8_t> lit_rows_;
 };
 
 }  // namespace robossis::apps

@@ -129,10 +129,12 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
   ImGui::TextUnformatted(title);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos();
-  image.Reset(o, ImVec2(o.x + size.x, o.y + size.y), IM_COL32(20, 22, 28, 255));  // the plot's background
+  // The plot's background is the panel's (glClear's), its box a 1 px frame: only the bands of rows its lines
+  // light are drawn (ImageTexture::Draw with only_lit_rows).
+  image.Reset(o, ImVec2(o.x + size.x, o.y + size.y), kPanelBackground);
   ImGui::Dummy(size);
   if (buffer.size() < 2) {
-    texture.Draw(draw, gl, image);
+    draw->AddRect(o, ImVec2(o.x + size.x, o.y + size.y), kViewFrame);
     return;
   }
   float lo = 1e30f, hi = -1e30f;
@@ -159,7 +161,8 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
     image.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
     ++color;
   }
-  texture.Draw(draw, gl, image);
+  texture.Draw(draw, gl, image, /*only_lit_rows=*/true);
+  draw->AddRect(o, ImVec2(o.x + size.x, o.y + size.y), kViewFrame);  // over the image's edge columns
   char range[64];
   std::snprintf(range, sizeof range, "%.2f .. %.2f", lo, hi);
   draw->AddText(ImVec2(o.x + 4, o.y + 2), IM_COL32(200, 200, 200, 255), range);
