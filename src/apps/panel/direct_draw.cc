@@ -142,7 +142,7 @@ DirectRenderer::~DirectRenderer() {
 }
 
 void DirectRenderer::Submit(ImDrawList* draw, DirectBatch& batch) {
-  if (batch.lines_.empty() && batch.triangles_.empty()) return;
+  if (batch.triangles_.empty()) return;
   batch.renderer_ = this;
   draw->AddCallback(&DirectRenderer::Callback, &batch);
   draw->AddCallback(ImDrawCallback_ResetRenderState, nullptr);  // ImGui's program, buffers and blending again
@@ -218,22 +218,11 @@ void DirectRenderer::Draw(const DirectBatch& batch, const ImDrawCmd& command) {
   glUniform4f(display_location_, display[0], display[1], display[2], display[3]);
   glBindVertexArray(vertex_array_);
   glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
-  const std::size_t lines = batch.lines_.size(), triangles = batch.triangles_.size();
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>((triangles + lines) * sizeof(DirectVertex)), nullptr,
+  const std::size_t triangles = batch.triangles_.size();
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles * sizeof(DirectVertex)), batch.triangles_.data(),
                GL_STREAM_DRAW);
-  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(triangles * sizeof(DirectVertex)),
-                  batch.triangles_.data());
-  glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(triangles * sizeof(DirectVertex)),
-                  static_cast<GLsizeiptr>(lines * sizeof(DirectVertex)), batch.lines_.data());
-  if (triangles > 0) {
-    glDisable(GL_BLEND);  // opaque: no framebuffer read per pixel
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles));
-  }
-  if (lines > 0) {
-    glEnable(GL_BLEND);  // ImGui's blend function is still set
-    glLineWidth(1.0f);
-    glDrawArrays(GL_LINES, static_cast<GLint>(triangles), static_cast<GLsizei>(lines));
-  }
+  glDisable(GL_BLEND);  // opaque: no framebuffer read per pixel
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles));
 }
 
 ImageTexture::~ImageTexture() {

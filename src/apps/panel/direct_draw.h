@@ -1,7 +1,7 @@
 #pragma once
-// Lines and flat triangles that OpenGL draws directly, in Dear ImGui's draw order (an ImDrawList callback), for the
-// parts of the panel with thousands of primitives (the bone fragments); and line images (line_image.h) drawn as one
-// textured quad each (the workspace slice's edges, the plots).
+// What OpenGL draws directly for the panel, in Dear ImGui's draw order (ImDrawList callbacks): flat opaque triangles
+// (the bone fragments' thousands), and line images (line_image.h) as opaque textured quads (the workspace slice's
+// edges, the plots).
 //
 // Why: on Mesa's software renderer (llvmpipe) the rasteriser's cost follows the primitives and the 4x4 pixel
 // blocks each one touches, not the pixels lit. An ImGui triangle goes through ImGui's shader (a bilinear texture
@@ -26,34 +26,21 @@ struct DirectVertex {
 class DirectRenderer;
 class ImageTexture;
 
-// One batch of primitives, filled while a frame is laid out and drawn when ImGui renders the frame: its 1 px lines
-// (blended, as ImGui blends) over its opaque triangles. It must live until the frame is rendered.
+// One batch of opaque triangles, filled while a frame is laid out and drawn in their order when ImGui renders the
+// frame. It must live until the frame is rendered.
 class DirectBatch {
  public:
-  void Clear() {
-    lines_.clear();
-    triangles_.clear();
-  }
-  // A 1 px line between pixel centres, as ImDrawList::AddLine places it.
-  void AddLine(ImVec2 a, ImVec2 b, ImU32 color) {
-    lines_.push_back({a.x + 0.5f, a.y + 0.5f, color});
-    lines_.push_back({b.x + 0.5f, b.y + 0.5f, color});
-  }
-  void AddPolyline(const ImVec2* points, int count, ImU32 color) {
-    for (int i = 1; i < count; ++i) AddLine(points[i - 1], points[i], color);
-  }
+  void Clear() { triangles_.clear(); }
   // An opaque triangle (the colour's alpha is ignored), as ImDrawList::AddTriangleFilled without anti-aliasing.
   void AddTriangle(ImVec2 a, ImVec2 b, ImVec2 c, ImU32 color) {
     triangles_.push_back({a.x, a.y, color});
     triangles_.push_back({b.x, b.y, color});
     triangles_.push_back({c.x, c.y, color});
   }
-  std::size_t line_count() const { return lines_.size() / 2; }
   std::size_t triangle_count() const { return triangles_.size() / 3; }
 
  private:
   friend class DirectRenderer;
-  std::vector<DirectVertex> lines_;
   std::vector<DirectVertex> triangles_;
   DirectRenderer* renderer_ = nullptr;
 };
