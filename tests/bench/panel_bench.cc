@@ -2,14 +2,17 @@
 // 33 ms, i.e. 30 frames/s) and, in the same run, with the heavy parts of the 3-D view left out and at 1280x720.
 // Needs a display: run it under `xvfb-run -a -s '-screen 0 1920x1080x24'` (see BENCHMARKS.md). Each iteration is
 // one whole frame (snapshots, draw, present, glFinish), over the panel's simulated follower running its loops (the
-// follower unit at 10 kHz, the leader side at 1 kHz), and once with those loops stopped (the panel's cost alone).
+// follower unit at 10 kHz, the leader side at 1 kHz), once with those loops stopped (the panel's cost alone), and once
+// with the camera orbiting (every frame a new view).
 // Counters: p50_ms, p99_ms (over the iterations), p99_budget = p99 / 33.3 ms, and the p50 of each frame phase
-// (apps::FramePhase: update, layout, raster, present).
+// (apps::FramePhase: update, layout, raster, present); triangles = ImGui's, direct_prims = the lines and triangles
+// drawn directly (src/apps/panel/direct_draw.h).
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "haptics/haptics_config.h"
@@ -26,7 +29,8 @@ namespace {
 
 using namespace robossis;
 
-void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool slice, bool loops = true) {
+void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool slice, bool loops = true,
+                bool orbit = false) {
   const std::filesystem::path config = DefaultDataDir() / "config";
   const transfer::TransferConfig transfer = transfer::TransferConfig::FromYaml(config / "transfer.yaml");
   const sim::SimConfig sim_config = sim::LoadSimConfig(config / "sim.yaml", DefaultDataDir());
@@ -54,9 +58,12 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
   options.vsync = false;
   options.workspace_slice = slice;
   // A jog in progress, so that the pose, the gauges and the plots change every frame.
-  options.script = panel::ParseScript("0.3 set jog.axis x\n0.3 set jog.amount 20\n0.3 set jog.duration_s 30\n"
-                                      "0.4 click jog.go\n",
-                                      "bench");
+  std::string script = "0.3 set jog.axis x\n0.3 set jog.amount 20\n0.3 set jog.duration_s 30\n0.4 click jog.go\n";
+  // Orbiting: the camera turns by 0.5 deg every 20 ms, so that every frame draws a new view (nothing the view keeps
+  // from the last frame, such as the slice's image, is reused).
+  for (int k = 0; orbit && k < 3000; ++k)
+    script += std::to_string(0.5 + 0.02 * k) + " set view.azimuth_deg " + std::to_string(30 + 0.5 * k) + "\n";
+  options.script = panel::ParseScript(script, "bench");
   apps::PanelWindow window(backend, models, options);
   // Warm-up: the first frames build the font atlas, and the workspace slice arrives after ~0.1-1 s.
   const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
@@ -79,6 +86,7 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
   state.counters["raster_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kRaster)];
   state.counters["present_ms"] = result.phase_p50_ms[static_cast<int>(apps::FramePhase::kPresent)];
   state.counters["triangles"] = static_cast<double>(result.last_frame_triangles);
+  state.counters["direct_prims"] = static_cast<double>(result.last_frame_direct_primitives);
   backend.Stop();
 }
 
@@ -87,6 +95,8 @@ BENCHMARK_CAPTURE(PanelFrame, no_bone_no_slice_1920x1080, 1920, 1080, false, fal
     ->Unit(benchmark::kMillisecond)->Iterations(300);
 BENCHMARK_CAPTURE(PanelFrame, full_1280x720, 1280, 720, true, true)->Unit(benchmark::kMillisecond)->Iterations(300);
 BENCHMARK_CAPTURE(PanelFrame, full_1920x1080_loops_stopped, 1920, 1080, true, true, false)
+    ->Unit(benchmark::kMillisecond)->Iterations(300);
+BENCHMARK_CAPTURE(PanelFrame, full_1920x1080_orbiting, 1920, 1080, true, true, true, true)
     ->Unit(benchmark::kMillisecond)->Iterations(300);
 
 }  // namespace

@@ -20,6 +20,7 @@
 
 #include "geometry/live_boundary.h"
 #include "haptics/rendering/renderer_factory.h"
+#include "src/apps/panel/direct_draw.h"
 #include "src/apps/panel/robot_view.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
@@ -37,9 +38,10 @@ constexpr std::size_t kMaxSliceEdges = 3000;
 // while glClear, which paints the same colour, is a memset.
 constexpr ImGuiWindowFlags kFixedWindow =
     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBackground;
-// The background colours glClear paints: the panel's, and the 3-D view's (a scissored clear of its rectangle).
-constexpr float kPanelBackground[3] = {0.1f, 0.1f, 0.12f};
-constexpr float kViewBackground[3] = {28 / 255.0f, 32 / 255.0f, 40 / 255.0f};
+// The background colour glClear paints, the 3-D view's too: the view is told apart by a frame, not by a fill of its
+// own (a scissored glClear is a drawn quad on Mesa's software renderer, measured at 3.8 ms of a 1920x1080 frame's
+// rasteriser time, where the whole-window clear is 2.8 ms).
+constexpr ImU32 kViewFrame = IM_COL32(70, 78, 96, 255);
 // [assumed] plot resolution: one point per this many pixel columns (a 540 px plot shows 270 points of its 10 s).
 constexpr float kPlotPixelsPerPoint = 2.0f;
 // [assumed] regenerate the drawn workspace slice when the orientation moved by more than this.
@@ -66,6 +68,11 @@ struct GlfwSession {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the caller: every start looks the same
     ImGui::StyleColorsDark();
+    // The title bars keep their titles but lose their filled strips: glClear paints the panel's background anyway,
+    // and on the software renderer a filled strip is ~36k blended pixels per frame at 1920 px (ImGui skips a fill
+    // whose alpha is 0).
+    for (const ImGuiCol bar : {ImGuiCol_TitleBg, ImGuiCol_TitleBgActive, ImGuiCol_TitleBgCollapsed})
+      ImGui::GetStyle().Colors[bar] = ImVec4(0, 0, 0, 0);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330");
   }
@@ -101,15 +108,35 @@ ImVec4 StateColor(teleop::OperatingState state) {
 }
 
 // A time series: the signals `columns` of the buffer over its window, each in its colour, with a legend.
+// What the frame's plots and 3-D view draw through OpenGL directly (direct_draw.h), refilled every frame.
+struct DirectLayers {
+  DirectRenderer renderer;
+  RobotViewBatches view;
+  std::array<LineImage, 3> plots;  // position, orientation, force (line_image.h)
+  std::array<ImageTexture, 3> plot_textures;
+  // The lines rasterised into images and the triangles drawn directly.
+  long primitive_count() const {
+    std::size_t n = view.slice.line_count() + view.bone.triangle_count();
+    for (const LineImage& plot : plots) n += plot.line_count();
+    return static_cast<long>(n);
+  }
+};
+
 template <std::size_t N>
 void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initializer_list<int> columns,
-              std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size) {
+              std::initializer_list<const char*> names, std::initializer_list<ImU32> colors, ImVec2 size,
+              DirectRenderer& gl, LineImage& image, ImageTexture& texture) {
   ImGui::TextUnformatted(title);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos();
-  draw->AddRectFilled(o, ImVec2(o.x + size.x, o.y + size.y), IM_COL32(20, 22, 28, 255));
+  // The plot's background is the panel's (glClear's), its box a 1 px frame: only the bands of rows its lines
+  // light are drawn (ImageTexture::Draw with only_lit_rows).
+  image.Reset(o, ImVec2(o.x + size.x, o.y + size.y), kPanelBackground);
   ImGui::Dummy(size);
-  if (buffer.size() < 2) return;
+  if (buffer.size() < 2) {
+    draw->AddRect(o, ImVec2(o.x + size.x, o.y + size.y), kViewFrame);
+    return;
+  }
   float lo = 1e30f, hi = -1e30f;
   for (std::size_t i = 0; i < buffer.size(); ++i)
     for (int c : columns) lo = std::min(lo, buffer.values(i)[c]), hi = std::max(hi, buffer.values(i)[c]);
@@ -117,8 +144,9 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
   const double t0 = buffer.time_s(0), t1 = buffer.time_s(buffer.size() - 1);
   const double span = std::max(1e-6, t1 - t0);
   // Each signal is one polyline of at most one point per kPlotPixelsPerPoint pixel columns (decimated by a
-  // stride; the newest sample always ends it), 1 px wide: the software renderer's cost is per triangle, and a
-  // polyline of N points is 2(N-1) triangles where N separate segments of 1.5 px were 6N.
+  // stride; the newest sample always ends it), 1 px lines rasterised into the plot's image (line_image.h), drawn
+  // as one quad: the software renderer's cost is per primitive, and ImGui's polyline of N points was 2(N-1)
+  // textured triangles.
   const std::size_t max_points = std::max<std::size_t>(2, static_cast<std::size_t>(size.x / kPlotPixelsPerPoint));
   const std::size_t stride = std::max<std::size_t>(1, (buffer.size() + max_points - 1) / max_points);
   static thread_local std::vector<ImVec2> points;  // the window thread's scratch, reused every frame
@@ -130,9 +158,11 @@ void TimePlot(const char* title, const panel::PlotBuffer<N>& buffer, std::initia
       points.emplace_back(o.x + static_cast<float>((buffer.time_s(k) - t0) / span) * size.x,
                           o.y + size.y - (buffer.values(k)[c] - lo) / (hi - lo) * (size.y - 4) - 2);
     }
-    draw->AddPolyline(points.data(), static_cast<int>(points.size()), *color, ImDrawFlags_None, 1.0f);
+    image.AddPolyline(points.data(), static_cast<int>(points.size()), *color);
     ++color;
   }
+  texture.Draw(draw, gl, image, /*only_lit_rows=*/true);
+  draw->AddRect(o, ImVec2(o.x + size.x, o.y + size.y), kViewFrame);  // over the image's edge columns
   char range[64];
   std::snprintf(range, sizeof range, "%.2f .. %.2f", lo, hi);
   draw->AddText(ImVec2(o.x + 4, o.y + 2), IM_COL32(200, 200, 200, 255), range);
@@ -165,10 +195,12 @@ class SliceRefresher {
     options.dexterous_resolution_m = kSliceDrawResolutionM;
     boundary_ = std::make_unique<geometry::LiveBoundary>(rsr, hc, options);
   }
-  // Starts a regeneration at `rpy` when the drawn slice is too far from it; takes a finished one into `edges`.
-  void Poll(const Eigen::Vector3d& rpy, std::vector<std::array<Eigen::Vector3d, 2>>& edges) {
+  // Starts a regeneration at `rpy` when the drawn slice is too far from it; takes a finished one into `edges` and
+  // counts it in `generation`.
+  void Poll(const Eigen::Vector3d& rpy, std::vector<std::array<Eigen::Vector3d, 2>>& edges, std::uint64_t& generation) {
     if (pending_.valid() && pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       edges = pending_.get();
+      ++generation;
     }
     if (!pending_.valid() && (!generated_ || (rpy - generated_rpy_).cwiseAbs().maxCoeff() > kSliceRefreshRad)) {
       generated_ = true;
@@ -297,7 +329,7 @@ void DrawControls(panel::PanelController& panel, float height) {
   ImGui::End();
 }
 
-void DrawNumbers(panel::PanelController& panel, float x, float width, float height) {
+void DrawNumbers(panel::PanelController& panel, DirectLayers& direct, float x, float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
   ImGui::Begin("Pose and joints", nullptr, kFixedWindow);
@@ -313,20 +345,20 @@ void DrawNumbers(panel::PanelController& panel, float x, float width, float heig
   TimePlot("position (mm): commanded vs measured", pose, {0, 1, 2, 6, 7, 8}, {"cmd x", "y", "z", "meas x", "y", "z"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot);
+           plot, direct.renderer, direct.plots[0], direct.plot_textures[0]);
   TimePlot("orientation (deg): commanded vs measured", pose, {3, 4, 5, 9, 10, 11},
            {"cmd roll", "pitch", "yaw", "meas roll", "pitch", "yaw"},
            {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255),
             IM_COL32(180, 60, 60, 255), IM_COL32(60, 170, 60, 255), IM_COL32(60, 90, 200, 255)},
-           plot);
+           plot, direct.renderer, direct.plots[1], direct.plot_textures[1]);
   TimePlot("force on the hand (N)", panel.wrench_plot(), {0, 1, 2}, {"Fx", "Fy", "Fz"},
-           {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot);
+           {IM_COL32(255, 120, 120, 255), IM_COL32(120, 255, 120, 255), IM_COL32(120, 160, 255, 255)}, plot,
+           direct.renderer, direct.plots[2], direct.plot_textures[2]);
   ImGui::End();
 }
 
-// Returns the 3-D view's rectangle (origin, size), whose background the frame clears.
-std::pair<ImVec2, ImVec2> DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, float x,
-                                          float width, float height) {
+void DrawRobotWindow(panel::PanelController& panel, const RobotScene& scene, DirectLayers& direct, float x,
+                     float width, float height) {
   ImGui::SetNextWindowPos(ImVec2(x, 64));
   ImGui::SetNextWindowSize(ImVec2(width, height - 64));
   ImGui::Begin("Robot", nullptr, kFixedWindow);
@@ -341,12 +373,12 @@ std::pair<ImVec2, ImVec2> DrawRobotWindow(panel::PanelController& panel, const R
   }
   if (ImGui::IsItemHovered() && ImGui::GetIO().MouseWheel != 0)  // zoom
     camera.distance_mm = std::clamp(camera.distance_mm * std::pow(0.9, ImGui::GetIO().MouseWheel), 200.0, 5000.0);
-  DrawRobotView(ImGui::GetWindowDrawList(), origin, size, camera, panel.model(), panel.view().X_FM,
-                panel.commanded_pose(), scene, panel.wrench());
+  DrawRobotView(ImGui::GetWindowDrawList(), direct.renderer, direct.view, origin, size, camera, panel.model(),
+                panel.view().X_FM, panel.commanded_pose(), scene, panel.wrench());
+  ImGui::GetWindowDrawList()->AddRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), kViewFrame);
   ImGui::GetWindowDrawList()->AddText(ImVec2(origin.x + 8, origin.y + 8), IM_COL32(200, 200, 200, 255),
                                       "drag: orbit   wheel: zoom   cross: commanded centre   blue: workspace slice");
   ImGui::End();
-  return {origin, size};
 }
 
 panel::HapticModeModel InitialHapticMode(const PanelModels& models) {
@@ -411,6 +443,7 @@ struct PanelWindow::Impl {
   RobotScene scene;
   std::unique_ptr<SliceRefresher> slices;
   GlfwSession session;
+  DirectLayers direct;  // after the session: its GL objects go before the context
   panel::ScriptPlayer script;
   std::chrono::steady_clock::time_point start;
   std::vector<double> frame_ms;
@@ -419,6 +452,7 @@ struct PanelWindow::Impl {
   long frames = 0;
   double max_hand_force_n = 0;
   long triangles = 0;
+  long direct_primitives = 0;
   bool done = false;
 };
 
@@ -451,7 +485,8 @@ bool PanelWindow::Frame() {
   const auto update_end = std::chrono::steady_clock::now();
   const panel::HandWrench& wrench = m.controller.wrench();
   m.max_hand_force_n = std::max(m.max_hand_force_n, std::hypot(wrench.force_n[0], wrench.force_n[1], wrench.force_n[2]));
-  if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F);
+  if (m.slices) m.slices->Poll(RpyFromRotation(m.controller.view().X_FM.linear()), m.scene.slice_edges_F,
+                                 m.scene.slice_generation);
 
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
@@ -462,20 +497,17 @@ bool PanelWindow::Frame() {
   const float numbers_width = std::min(560.0f, 0.33f * w);
   DrawTopBar(m.controller, w);
   DrawControls(m.controller, h);
-  const auto [view_origin, view_size] = DrawRobotWindow(m.controller, m.scene, 380, w - 380 - numbers_width, h);
-  DrawNumbers(m.controller, w - numbers_width, numbers_width, h);
+  DrawRobotWindow(m.controller, m.scene, m.direct, 380, w - 380 - numbers_width, h);
+  DrawNumbers(m.controller, m.direct, w - numbers_width, numbers_width, h);
   ImGui::Render();
   m.triangles = ImGui::GetDrawData()->TotalIdxCount / 3;
+  m.direct_primitives = m.direct.primitive_count();
   const auto layout_end = std::chrono::steady_clock::now();
   glViewport(0, 0, width, height);
-  glClearColor(kPanelBackground[0], kPanelBackground[1], kPanelBackground[2], 1);
+  glClearColor(static_cast<float>((kPanelBackground >> IM_COL32_R_SHIFT) & 0xFF) / 255,
+               static_cast<float>((kPanelBackground >> IM_COL32_G_SHIFT) & 0xFF) / 255,
+               static_cast<float>((kPanelBackground >> IM_COL32_B_SHIFT) & 0xFF) / 255, 1);
   glClear(GL_COLOR_BUFFER_BIT);
-  glEnable(GL_SCISSOR_TEST);  // OpenGL's rows count from the bottom
-  glScissor(static_cast<GLint>(view_origin.x), static_cast<GLint>(h - view_origin.y - view_size.y),
-            static_cast<GLsizei>(std::max(0.0f, view_size.x)), static_cast<GLsizei>(std::max(0.0f, view_size.y)));
-  glClearColor(kViewBackground[0], kViewBackground[1], kViewBackground[2], 1);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glDisable(GL_SCISSOR_TEST);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();  // the rasterisation, apart from the present below
   const auto raster_end = std::chrono::steady_clock::now();
@@ -517,6 +549,7 @@ PanelRunResult PanelWindow::Result() const {
   result.rendering_method = m.controller.haptic().method();
   result.max_hand_force_n = m.max_hand_force_n;
   result.last_frame_triangles = m.triangles;
+  result.last_frame_direct_primitives = m.direct_primitives;
   return result;
 }
 

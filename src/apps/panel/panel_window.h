@@ -41,6 +41,7 @@ struct PanelRunResult {
   double frame_max_ms = 0;
   std::array<double, kFramePhases> phase_p50_ms{};  // by FramePhase
   long last_frame_triangles = 0;                    // ImGui's draw data of the last frame (the rasteriser's work)
+  long last_frame_direct_primitives = 0;            // and the lines and triangles drawn directly (direct_draw.h)
   std::vector<std::string> screenshots;  // written PNGs
   double elapsed_s = 0;
   // The panel's own state at the end, for scripted tests.

@@ -107,6 +107,30 @@ void AddMesh(std::vector<ShadedTriangle>& out, const Projector& p, const DrawMes
   }
 }
 
+// The slice's edges as one image over their bounding box within the view, blended over the panel's background.
+void DrawSliceImage(const Projector& p, ImVec2 origin, ImVec2 size, const RobotScene& scene,
+                    RobotViewBatches& batches) {
+  std::vector<ImVec2>& ends = batches.scratch;
+  ends.clear();
+  ImVec2 lo(origin.x + size.x, origin.y + size.y), hi = origin;
+  for (const auto& edge : scene.slice_edges_F) {
+    ImVec2 sa, sb;
+    if (!p.Project(edge[0], sa) || !p.Project(edge[1], sb)) continue;
+    ends.push_back(sa);
+    ends.push_back(sb);
+    for (const ImVec2& e : {sa, sb}) {
+      lo = ImVec2(std::min(lo.x, e.x), std::min(lo.y, e.y));
+      hi = ImVec2(std::max(hi.x, e.x + 1), std::max(hi.y, e.y + 1));
+    }
+  }
+  // Within the view only (the image's size is bounded by the view's).
+  lo = ImVec2(std::max(lo.x, origin.x), std::max(lo.y, origin.y));
+  hi = ImVec2(std::min(hi.x, origin.x + size.x), std::min(hi.y, origin.y + size.y));
+  batches.slice.Reset(lo, hi.x > lo.x && hi.y > lo.y ? hi : lo, kPanelBackground);
+  for (std::size_t i = 0; i + 1 < ends.size(); i += 2)
+    batches.slice.AddLine(ends[i], ends[i + 1], IM_COL32(90, 200, 255, 60));
+}
+
 }  // namespace
 
 DrawMesh ReduceForDrawing(const std::vector<Eigen::Vector3d>& vertices,
@@ -174,26 +198,33 @@ std::vector<std::array<Eigen::Vector3d, 2>> MeshEdges(const std::vector<Eigen::V
   return edges;
 }
 
-void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Camera& camera,
-                   const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, const Eigen::Isometry3d& X_FM_commanded,
-                   const RobotScene& scene, const panel::HandWrench& wrench) {
+void DrawRobotView(ImDrawList* draw, DirectRenderer& gl, RobotViewBatches& batches, ImVec2 origin, ImVec2 size,
+                   const panel::Camera& camera, const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
+                   const Eigen::Isometry3d& X_FM_commanded, const RobotScene& scene, const panel::HandWrench& wrench) {
   draw->PushClipRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), true);
   const Eigen::Vector3d target(0, 0, 0.5 * model.geometry().X_FM_home.translation().z());
   const Projector p = MakeProjector(origin, size, camera, target);
+
+  // The workspace boundary slice around the ring (positions P can reach at the current orientation).
+  // Thin, faint and many: 1 px lines without anti-aliasing, rasterised into one image over their bounding box
+  // (line_image.h), blended there over the panel's background, and drawn as one opaque quad (so first: it covers
+  // what was drawn before it in its box).
+  const RobotViewBatches::SliceKey key{scene.slice_generation, camera.azimuth_deg, camera.elevation_deg,
+                                       camera.distance_mm, origin.x, origin.y, size.x, size.y};
+  if (batches.slice_drawn && key == batches.slice_key) {
+    batches.slice_texture.Redraw(draw, gl);  // the same picture as the last frame's
+  } else {
+    DrawSliceImage(p, origin, size, scene, batches);
+    batches.slice_texture.Draw(draw, gl, batches.slice);
+    batches.slice_key = key;
+    batches.slice_drawn = true;
+  }
 
   // The frame F.
   const Eigen::Vector3d o = Eigen::Vector3d::Zero();
   Line(draw, p, o, Eigen::Vector3d(0.08, 0, 0), IM_COL32(230, 80, 80, 255), 2);
   Line(draw, p, o, Eigen::Vector3d(0, 0.08, 0), IM_COL32(80, 230, 80, 255), 2);
   Line(draw, p, o, Eigen::Vector3d(0, 0, 0.08), IM_COL32(80, 120, 255, 255), 2);
-
-  // The workspace boundary slice around the ring (positions P can reach at the current orientation).
-  // Thin, faint and many: drawn without anti-aliasing (1 px quads instead of 3 px fringed ones, a third of the
-  // pixels for the software renderer to blend).
-  const ImDrawListFlags flags = draw->Flags;
-  draw->Flags &= ~ImDrawListFlags_AntiAliasedLines;
-  for (const auto& edge : scene.slice_edges_F) Line(draw, p, edge[0], edge[1], IM_COL32(90, 200, 255, 60), 1.0f);
-  draw->Flags = flags;
 
   // Bone fragments, painter's order.
   std::vector<ShadedTriangle> triangles;
@@ -202,11 +233,10 @@ void DrawRobotView(ImDrawList* draw, ImVec2 origin, ImVec2 size, const panel::Ca
   AddMesh(triangles, p, scene.distal_M, X_FM, Eigen::Vector3d(0.95, 0.82, 0.70));
   std::sort(triangles.begin(), triangles.end(),
             [](const ShadedTriangle& a, const ShadedTriangle& b) { return a.depth > b.depth; });
-  // Without anti-aliased edges: ImGui's fringe makes each triangle 7 (a closed mesh hides the edges anyway), and
-  // the software renderer's cost is per triangle.
-  draw->Flags &= ~ImDrawListFlags_AntiAliasedFill;
-  for (const ShadedTriangle& t : triangles) draw->AddTriangleFilled(t.a, t.b, t.c, t.color);
-  draw->Flags = flags;
+  // Opaque GL triangles without anti-aliased edges (a closed mesh hides the edges anyway; direct_draw.h).
+  batches.bone.Clear();
+  for (const ShadedTriangle& t : triangles) batches.bone.AddTriangle(t.a, t.b, t.c, t.color);
+  gl.Submit(draw, batches.bone);
 
   // Rings and arms.
   const double radius_fixed = model.p_FA(0).head<2>().norm();
