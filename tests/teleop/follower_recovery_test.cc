@@ -9,6 +9,7 @@
 #include "src/core/config.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
+#include "tests/support/alloc_counter.h"
 
 namespace robossis::teleop {
 namespace {
@@ -106,7 +107,9 @@ TEST_F(FollowerRecoveryTest, PushedWhileUnpoweredItResumesFromWhereTheJointsAre)
   // A new leader session, holding still where it believes the robot is; the operator enables.
   session_ = 2;
   Command(StateCommand::kEnable);
+  ::robossis::testing::AllocationCounter counter;  // the resync and the resumed ticks allocate nothing
   const double max_step = Run(0.5, true, home_.translation());
+  EXPECT_EQ(counter.count(), 0u);
   EXPECT_EQ(unit_.state(), OperatingState::kEnabled);
   // No jump: at most one tick at the linear cap, with a margin for the kinematics' rounding.
   EXPECT_LE(max_step, 1.5 * transfer_.caps.max_linear_speed_m_s * 1e-4);

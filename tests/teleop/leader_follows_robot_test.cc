@@ -7,6 +7,7 @@
 #include "haptics/device/device_factory.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/leader_unit.h"
+#include "tests/support/alloc_counter.h"
 #include "tests/teleop/teleop_fixture.h"
 
 namespace robossis::teleop {
@@ -102,6 +103,39 @@ TEST_F(LeaderFollowsRobotTest, AFollowerThatFallsSilentStopsTheRendering) {
   Run(0.5);
   EXPECT_LT((LastSent() - held).norm(), 1e-9);  // the hand moves nothing
   EXPECT_EQ(LastForce(), 0.0);
+}
+
+// Following the measured robot, and resuming from it (the walls' map and the proxy reset), allocate nothing either.
+TEST(LeaderFollowsRobotAllocationTest, TicksThatFollowTheMeasuredRobotDoNotAllocate) {
+  for (const std::string& method : haptics::KnownMethods()) {
+    const LeaderConfig config = Leader();
+    auto device = haptics::MakeDevice("replay:" + FastHand().string(), Sigma7(), Haptics(), config.device,
+                                      config.sim_script);
+    device->EnableForces(true);
+    auto renderer = Renderer(method, config.rate_hz);
+    RecordingLeaderLink link(0);
+    LeaderUnit unit(config, Transfer(), Rsr(), *device, *renderer, link, Rsr().geometry().X_FM_home, 7);
+    link.follower_speaks = true;
+    const Eigen::Vector3d p = Rsr().geometry().X_FM_home.translation() + Eigen::Vector3d(0.002, 0, 0);
+    link.follower.p_FM = {p.x(), p.y(), p.z()};
+    const Eigen::Quaterniond q(Rsr().geometry().X_FM_home.linear());
+    link.follower.q_FM = {q.w(), q.x(), q.y(), q.z()};
+    rt::SimulatedClock clock;
+    LeaderTickRecord r;
+    const auto run = [&](int ticks) {
+      for (int k = 0; k < ticks; ++k) {
+        // Disabled, then enabled, every 300 ticks: both paths and both edges.
+        link.follower.state = (k / 300) % 2 == 0 ? OperatingState::kDisabled : OperatingState::kEnabled;
+        clock.AdvanceNs(1'000'000);
+        unit.Tick(clock.now_ns());
+        unit.records().TryPop(r);
+      }
+    };
+    run(200);  // warm up
+    ::robossis::testing::AllocationCounter counter;
+    run(2400);
+    EXPECT_EQ(counter.count(), 0u) << method;
+  }
 }
 
 }  // namespace
