@@ -121,6 +121,16 @@ Eigen::Isometry3d LeaderUnit::FeasibleToward(const Eigen::Isometry3d& goal, bool
   return OnTheWire(Interpolate(X_sent_, goal, lo));
 }
 
+void LeaderUnit::AnchorWalls(const Eigen::Isometry3d& X_OH) noexcept {
+  // The walls' own map (used only to place a proxy or a cloud at reset): the hand now ↔ the set-point now.
+  haptics::HcToRsrMap map;
+  map.X_OH_anchor = X_OH;
+  map.X_FM_anchor = X_sent_;
+  map.scale = translation_scale_;
+  renderer_.SetMap(map);
+  renderer_.Reset(X_OH);
+}
+
 void LeaderUnit::FollowTheMeasuredRobot(bool status_fresh) noexcept {
   // While the robot does not follow, the set-point, the walls and the motion transfer stay with the robot as it
   // was last measured (the leader no longer renders motion it does not make), so that nothing jumps when it
@@ -205,13 +215,7 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
       !follower_heard_ || (status_fresh && (follower_.state == OperatingState::kEnabled ||
                                             follower_.state == OperatingState::kClutched));
   if (!started_ && s.ok()) {
-    // The walls' own map (used only to place a proxy or a cloud at reset) anchored where the transfer starts.
-    haptics::HcToRsrMap map;
-    map.X_OH_anchor = s.X_OH;
-    map.X_FM_anchor = X_sent_;
-    map.scale = translation_scale_;
-    renderer_.SetMap(map);
-    renderer_.Reset(s.X_OH);
+    AnchorWalls(s.X_OH);
     started_ = true;
   }
 
@@ -226,15 +230,7 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   }
   clutched_ = state_ == LeaderState::kTracking && operator_clutch_.load(std::memory_order_acquire);
   const bool tracking = state_ == LeaderState::kTracking && !clutched_ && robot_following;
-  if (robot_following && !robot_was_following_) {
-    // Following resumes from the measured robot: the walls' map and the proxy start over there, with the hand.
-    haptics::HcToRsrMap map;
-    map.X_OH_anchor = s.X_OH;
-    map.X_FM_anchor = X_sent_;
-    map.scale = translation_scale_;
-    renderer_.SetMap(map);
-    renderer_.Reset(s.X_OH);
-  }
+  if (robot_following && !robot_was_following_) AnchorWalls(s.X_OH);  // resuming from the measured robot
   robot_was_following_ = robot_following;
   if (tracking != clutch_engaged_) {
     transfer_.SetClutch(tracking);  // engaging re-anchors on the next sample: no jump after a clutch or a fault

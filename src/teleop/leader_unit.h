@@ -140,6 +140,8 @@ class LeaderUnit final : public rt::PeriodicTask {
   bool FeasibleOnTheWire(const Eigen::Isometry3d& X) const noexcept;
   // The goal if feasible, else the boundary point on the segment from the last set-point toward it.
   Eigen::Isometry3d FeasibleToward(const Eigen::Isometry3d& goal, bool& stopped) noexcept;
+  // The walls start over with the hand at X_OH and the robot at the last set-point (at the start, on resuming).
+  void AnchorWalls(const Eigen::Isometry3d& X_OH) noexcept;
   // Not following: the set-point, the walls and the transfer stay at the robot's measured pose.
   void FollowTheMeasuredRobot(bool status_fresh) noexcept;
   // Whether a set-point at X moving at `twist` can still stop within the acceleration caps before any limit.
