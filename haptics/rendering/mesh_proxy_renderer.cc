@@ -23,9 +23,11 @@ MeshProxyRenderer::MeshProxyRenderer(const robot::RsrModel& model, const HcToRsr
       name_(name) {
   if (!atlas_ && !live_) throw std::invalid_argument("mesh-proxy: needs a boundary atlas or a live boundary");
   if (params.bisection_steps < 1 || params.search_expansions < 1 || !(params.search_step_m > 0) ||
-      !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0)) {
+      !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0) ||
+      !(params.damping_fade_m >= 0) || !(params.damping_fade_rad >= 0)) {
     throw std::invalid_argument(
-        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0, extra steps >= 0");
+        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0, extra steps and damping "
+        "fades >= 0");
   }
   if (live_ && simulated_latency_s >= 0) {
     refresher_ = std::make_unique<geometry::SimulatedRefresher>(*live_, simulated_latency_s);
@@ -42,6 +44,8 @@ void MeshProxyRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   X_FP_ = robot::IsPoseFeasible(model_, X_FM) ? X_FM : model_.geometry().X_FM_home;
   X_FM_previous_ = X_FM;
   translation_from_mesh_ = rotation_from_mesh_ = false;
+  force_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_m);
+  torque_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_rad);
 }
 
 void MeshProxyRenderer::SelectFields(const geometry::BoundaryDistanceField** dexterous,
@@ -181,8 +185,14 @@ HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3
   if (!robot::IsPoseFeasible(model_, X_FP_)) X_FP_ = X_before;
   const Eigen::Vector3d d_F = X_FP_.translation() - state.X_FM.translation();
   const Eigen::Vector3d theta_F = RotationVector(X_FP_.linear() * state.X_FM.linear().transpose());
-  f_F = WallForce(wall_, d_F, state.v_F);        // eq. 18 with d = proxy − HC
-  tau_F = WallTorque(wall_, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
+  // The damper in contact only, faded in with the depth (MeshProxyParams::damping_fade_m/rad).
+  force_damping_weight_ = ContactDampingWeight(d_F.norm(), params_.damping_fade_m);
+  torque_damping_weight_ = ContactDampingWeight(theta_F.norm(), params_.damping_fade_rad);
+  WallLawParams law = wall_;
+  law.c_f_ns_per_m *= force_damping_weight_;
+  law.c_tau_nms_per_rad *= torque_damping_weight_;
+  f_F = WallForce(law, d_F, state.v_F);        // eq. 18 with d = proxy − HC
+  tau_F = WallTorque(law, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
   const bool contact = d_F.squaredNorm() > 1e-18 || theta_F.squaredNorm() > 1e-18;
   return contact ? HapticStatus::kContact : HapticStatus::kFree;
 }
