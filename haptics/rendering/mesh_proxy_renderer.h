@@ -52,6 +52,11 @@ struct MeshProxyParams {
   // with depth it cannot step at the wall's onset either. Any weight in [0, 1] keeps the damper dissipative.
   double damping_fade_m = 0;
   double damping_fade_rad = 0;
+  // [assumed] Memory of the translational contact direction (0: off). Far outside, the mesh's nearest face can
+  // switch between ticks (two faces at nearly the same distance: the force direction flips by tens of degrees);
+  // with a limit > 0 the direction of the line along which the IK finds the true boundary turns toward the mesh's
+  // new nearest-point direction by at most this angle (rad) per tick. The proxy stays on the true boundary.
+  double max_direction_step_rad = 0;
 };
 
 // The weight of the damper at a proxy offset `depth` (m or rad): 1 with fade <= 0 (the paper's law), else
@@ -109,6 +114,7 @@ class MeshProxyRenderer final : public HapticRenderer {
   Eigen::Isometry3d X_FM_previous_ = Eigen::Isometry3d::Identity();  // the HC pose of the previous tick
   bool translation_from_mesh_ = false;
   bool rotation_from_mesh_ = false;
+  Eigen::Vector3d u_previous_ = Eigen::Vector3d::Zero();  // last tick's translational line direction (0: none)
   double force_damping_weight_ = 1;
   double torque_damping_weight_ = 1;
 };

@@ -248,5 +248,47 @@ TEST(MeshProxy, NoPhantomWallOnTheFastTranslationalReplay) {
   EXPECT_EQ(run.metrics.fault_ticks, 0);
 }
 
+// Where the three cone limits meet (the +x/−y edge at the home orientation, 37 mm above home: the pose of the
+// fast_translation replay at t = 0.728 s), 3.3 mm beyond, two faces of the slice are nearly equidistant from the HC
+// and the nearest one switches: without memory the force jumps by 1.8 N in one tick (as on the replay). With the
+// direction memory (max_direction_step_deg) the line turns by at most that angle per tick: the force turns over a
+// few ticks instead (the steps left are the hand's own motion, 0.3 N per 0.16 mm tick, and the turn).
+TEST(MeshProxy, TheContactDirectionHasMemoryWhereTheNearestFaceSwitches) {
+  const Eigen::Vector3d home = Home().translation();
+  const Eigen::Vector3d a = home + Eigen::Vector3d(0.13222, -0.07682, 0.03773);  // along the replay's path
+  const Eigen::Vector3d b = home + Eigen::Vector3d(0.13139, -0.07784, 0.03778);
+  auto largest_step = [&](double max_direction_step_rad) {
+    MeshProxyParams params = Config().mesh_proxy;
+    params.max_direction_step_rad = max_direction_step_rad;
+    auto live = MakeLive();
+    MeshProxyRenderer r(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, params, nullptr, live, -1.0);
+    r.Reset(Home());
+    Hold(r, Home(), 1);
+    live->RefreshNow();
+    Eigen::Isometry3d X = Home();
+    for (double s = 0; s <= 1.0; s += 0.002) {  // out to the start of the segment, the proxy following
+      X.translation() = home + s * (a - home);
+      Hold(r, X, 1);
+    }
+    HapticOutput previous = Hold(r, X, 1);
+    double worst = 0;
+    for (double s = 0; s <= 1.0; s += 0.125) {  // the replay's pace: 0.15 mm per tick
+      X.translation() = a + s * (b - a);
+      const HapticOutput out = Hold(r, X, 1);
+      EXPECT_EQ(out.status, HapticStatus::kContact);
+      EXPECT_TRUE(robot::IsPoseFeasible(Rsr(), r.proxy_pose()));
+      worst = std::max(worst, (out.f_O - previous.f_O).norm());
+      previous = out;
+    }
+    return worst;
+  };
+  const double without = largest_step(0.0);
+  const double with = largest_step(Config().mesh_proxy.max_direction_step_rad);
+  ASSERT_GT(Config().mesh_proxy.max_direction_step_rad, 0);
+  EXPECT_GT(without, 1.0) << "the case: the nearest face switches";
+  EXPECT_LT(with, 0.5 * without) << "without " << without;
+  EXPECT_LT(with, 0.8) << "without " << without;
+}
+
 }  // namespace
 }  // namespace robossis::haptics
