@@ -70,6 +70,9 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.mesh_proxy.search_expansions = static_cast<int>(mp.NumberInRange("search_expansions", 1, 20));
   c.mesh_proxy.max_extra_step_m = MmToM(mp.NumberInRange("max_extra_step_mm", 0, 100));
   c.mesh_proxy.max_extra_step_rad = DegToRad(mp.NumberInRange("max_extra_step_deg", 0, 90));
+  c.mesh_proxy.damping_fade_m = MmToM(mp.NumberInRange("damping_fade_mm", 0, 100));
+  c.mesh_proxy.damping_fade_rad = DegToRad(mp.NumberInRange("damping_fade_deg", 0, 90));
+  c.mesh_proxy.max_direction_step_rad = DegToRad(mp.NumberInRange("max_direction_step_deg", 0, 180));
   c.hardware_default_method = root.String("hardware_default_method");
   const std::vector<std::string> known = KnownMethods();
   if (std::find(known.begin(), known.end(), c.hardware_default_method) == known.end()) {

@@ -1,5 +1,6 @@
 #include "haptics/rendering/mesh_proxy_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,9 +24,11 @@ MeshProxyRenderer::MeshProxyRenderer(const robot::RsrModel& model, const HcToRsr
       name_(name) {
   if (!atlas_ && !live_) throw std::invalid_argument("mesh-proxy: needs a boundary atlas or a live boundary");
   if (params.bisection_steps < 1 || params.search_expansions < 1 || !(params.search_step_m > 0) ||
-      !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0)) {
+      !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0) ||
+      !(params.damping_fade_m >= 0) || !(params.damping_fade_rad >= 0) || !(params.max_direction_step_rad >= 0)) {
     throw std::invalid_argument(
-        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0, extra steps >= 0");
+        "mesh-proxy: bisection_steps and search_expansions must be >= 1, search steps > 0, extra steps and damping "
+        "fades >= 0");
   }
   if (live_ && simulated_latency_s >= 0) {
     refresher_ = std::make_unique<geometry::SimulatedRefresher>(*live_, simulated_latency_s);
@@ -42,6 +45,9 @@ void MeshProxyRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   X_FP_ = robot::IsPoseFeasible(model_, X_FM) ? X_FM : model_.geometry().X_FM_home;
   X_FM_previous_ = X_FM;
   translation_from_mesh_ = rotation_from_mesh_ = false;
+  u_previous_.setZero();
+  force_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_m);
+  torque_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_rad);
 }
 
 void MeshProxyRenderer::SelectFields(const geometry::BoundaryDistanceField** dexterous,
@@ -69,6 +75,8 @@ bool MeshProxyRenderer::MoveTranslation(const Eigen::Vector3d& p_HC,
   const Eigen::Matrix3d R = X_FP_.linear();
   Eigen::Isometry3d X = X_FP_;
   X.translation() = p_HC;
+  const Eigen::Vector3d u_previous = u_previous_;
+  u_previous_.setZero();
   if (robot::IsPoseFeasible(model_, X)) {  // exact IK: free space, whatever the mesh says
     X_FP_.translation() = p_HC;
     return false;
@@ -79,7 +87,17 @@ bool MeshProxyRenderer::MoveTranslation(const Eigen::Vector3d& p_HC,
     if (t.status == geometry::QueryStatus::kOk && t.normal.squaredNorm() > 0.5) {
       // Inward along the mesh's nearest-point direction; the mesh's depth is the first guess of the true one
       // (0 when the HC is inside the mesh but outside the true region: the face bulges out there).
-      const Eigen::Vector3d u = -t.normal;
+      Eigen::Vector3d u = -t.normal;
+      if (params_.max_direction_step_rad > 0 && u_previous.squaredNorm() > 0.5) {
+        // Memory: turn from the last direction toward the mesh's by at most max_direction_step_rad.
+        const double angle = std::acos(std::clamp(u_previous.dot(u), -1.0, 1.0));
+        if (angle > params_.max_direction_step_rad) {
+          const Eigen::Vector3d axis = u_previous.cross(u);
+          if (axis.squaredNorm() > 1e-24) {
+            u = Eigen::AngleAxisd(params_.max_direction_step_rad, axis.normalized()) * u_previous;
+          }
+        }
+      }
       double reach = t.signed_distance < 0 ? -t.signed_distance : 0.0;
       const double mesh_depth = reach;
       double step = params_.search_step_m;
@@ -99,6 +117,7 @@ bool MeshProxyRenderer::MoveTranslation(const Eigen::Vector3d& p_HC,
           } else {
             X_FP_.translation() = contact;
           }
+          u_previous_ = u;
           return true;
         }
         reach = mesh_depth + step;
@@ -181,8 +200,14 @@ HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3
   if (!robot::IsPoseFeasible(model_, X_FP_)) X_FP_ = X_before;
   const Eigen::Vector3d d_F = X_FP_.translation() - state.X_FM.translation();
   const Eigen::Vector3d theta_F = RotationVector(X_FP_.linear() * state.X_FM.linear().transpose());
-  f_F = WallForce(wall_, d_F, state.v_F);        // eq. 18 with d = proxy − HC
-  tau_F = WallTorque(wall_, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
+  // The damper in contact only, faded in with the depth (MeshProxyParams::damping_fade_m/rad).
+  force_damping_weight_ = ContactDampingWeight(d_F.norm(), params_.damping_fade_m);
+  torque_damping_weight_ = ContactDampingWeight(theta_F.norm(), params_.damping_fade_rad);
+  WallLawParams law = wall_;
+  law.c_f_ns_per_m *= force_damping_weight_;
+  law.c_tau_nms_per_rad *= torque_damping_weight_;
+  f_F = WallForce(law, d_F, state.v_F);        // eq. 18 with d = proxy − HC
+  tau_F = WallTorque(law, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
   const bool contact = d_F.squaredNorm() > 1e-18 || theta_F.squaredNorm() > 1e-18;
   return contact ? HapticStatus::kContact : HapticStatus::kFree;
 }

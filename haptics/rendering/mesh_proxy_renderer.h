@@ -18,8 +18,10 @@
 // the contact point come from the IK, a slice switch changes only the direction estimate by the two slices'
 // disagreement, never the wall's position: the switch is not felt as a step.
 //
-// Wrench: the virtual coupling of the proxy method, F = k_f·(p_P − p_HC) − c_f·v, τ = k_τ·log(R_P·R_HCᵀ) − c_τ·ω
-// (eq. 18–19 with d = proxy offset): zero at the true boundary, growing continuously, no moving average.
+// Wrench: the virtual coupling of the proxy method, F = k_f·(p_P − p_HC) − w_f·c_f·v, τ = k_τ·log(R_P·R_HCᵀ) −
+// w_τ·c_τ·ω (eq. 18–19 with d = proxy offset): zero at the true boundary, growing continuously, no moving average.
+// w = min(1, depth / damping_fade) in contact and 0 in free space (w = 1 everywhere with damping_fade = 0: the
+// paper's law). ContactDampingWeight below.
 
 #include <memory>
 
@@ -43,7 +45,26 @@ struct MeshProxyParams {
   // most the HC's own motion plus this much (m, rad) toward the new contact, and catches up over a few ticks.
   double max_extra_step_m = 0;
   double max_extra_step_rad = 0;
+  // [assumed] The damper of eq. 18–19 (−c_f·v, −c_τ·ω) acts only in contact, its weight growing linearly from 0 at
+  // the true boundary to 1 at this depth of the proxy offset (m, rad); 0: the paper's damper everywhere (Algorithm
+  // 1, lines 18–20). In free space the paper's damper is a force where there is no wall (above 1 N beyond 67 mm/s)
+  // and steps with the handle's velocity (6 N when the handle at 400 mm/s meets the sigma.7's own stop); faded in
+  // with depth it cannot step at the wall's onset either. Any weight in [0, 1] keeps the damper dissipative.
+  double damping_fade_m = 0;
+  double damping_fade_rad = 0;
+  // [assumed] Memory of the translational contact direction (0: off). Far outside, the mesh's nearest face can
+  // switch between ticks (two faces at nearly the same distance: the force direction flips by tens of degrees);
+  // with a limit > 0 the direction of the line along which the IK finds the true boundary turns toward the mesh's
+  // new nearest-point direction by at most this angle (rad) per tick. The proxy stays on the true boundary.
+  double max_direction_step_rad = 0;
 };
+
+// The weight of the damper at a proxy offset `depth` (m or rad): 1 with fade <= 0 (the paper's law), else
+// min(1, depth / fade) (0 in free space, where the offset is 0).
+inline double ContactDampingWeight(double depth, double fade) noexcept {
+  if (!(fade > 0)) return 1.0;
+  return depth >= fade ? 1.0 : depth / fade;
+}
 
 class MeshProxyRenderer final : public HapticRenderer {
  public:
@@ -65,6 +86,10 @@ class MeshProxyRenderer final : public HapticRenderer {
   // fallback bisection from the proxy (false, also in free space).
   bool last_translation_from_mesh() const { return translation_from_mesh_; }
   bool last_rotation_from_mesh() const { return rotation_from_mesh_; }
+  // The weights ContactDampingWeight gave the damper in the last tick (force, torque): the wrench minus
+  // −w·c·v is the wall's own part (the direction metric scores it).
+  double last_force_damping_weight() const noexcept { return force_damping_weight_; }
+  double last_torque_damping_weight() const noexcept { return torque_damping_weight_; }
 
  protected:
   HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept override;
@@ -89,6 +114,9 @@ class MeshProxyRenderer final : public HapticRenderer {
   Eigen::Isometry3d X_FM_previous_ = Eigen::Isometry3d::Identity();  // the HC pose of the previous tick
   bool translation_from_mesh_ = false;
   bool rotation_from_mesh_ = false;
+  Eigen::Vector3d u_previous_ = Eigen::Vector3d::Zero();  // last tick's translational line direction (0: none)
+  double force_damping_weight_ = 1;
+  double torque_damping_weight_ = 1;
 };
 
 }  // namespace robossis::haptics

@@ -8,6 +8,7 @@
 
 #include "haptics/device/device_sim.h"
 #include "haptics/rendering/boundary_probe.h"
+#include "haptics/rendering/mesh_proxy_renderer.h"
 #include "haptics/rendering/renderer_factory.h"
 #include "robot/rsr_kinematics.h"
 #include "src/core/pose.h"
@@ -129,6 +130,10 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
           m.max_penetration_deg = std::max(m.max_penetration_deg, rec.penetration_deg);
         }
       }
+      if (rec.penetration_mm <= 0 && rec.penetration_deg <= 0) {
+        m.max_free_space_force_n = std::max(m.max_free_space_force_n, output.f_O.norm());
+        m.max_free_space_torque_nm = std::max(m.max_free_space_torque_nm, output.tau_O.norm());
+      }
       const bool contact = output.status != HapticStatus::kFree;
       if (contact && output.status != HapticStatus::kFault) {
         // The direction of the WALL: the rendered wrench minus the viscous term −c·v that every method applies
@@ -136,8 +141,14 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
         // device-safe preset keeps). Otherwise a hand withdrawing fast while some cloud still touches a limit is
         // scored by its damper, which then points toward the wall (the strike: 405 of the point cloud's 2133 force
         // samples, all pure damper, at 156°; haptics/README.md).
-        const Eigen::Vector3d f_wall = output.f_O + config.wall.c_f_ns_per_m * input.v_O;
-        const Eigen::Vector3d tau_wall = output.tau_O + config.wall.c_tau_nms_per_rad * input.w_O;
+        // mesh-proxy fades its damper in with the depth (MeshProxyParams::damping_fade_m): remove what it applied.
+        double w_f = 1, w_tau = 1;
+        if (const auto* mesh_proxy = dynamic_cast<const MeshProxyRenderer*>(renderer.get())) {
+          w_f = mesh_proxy->last_force_damping_weight();
+          w_tau = mesh_proxy->last_torque_damping_weight();
+        }
+        const Eigen::Vector3d f_wall = output.f_O + w_f * config.wall.c_f_ns_per_m * input.v_O;
+        const Eigen::Vector3d tau_wall = output.tau_O + w_tau * config.wall.c_tau_nms_per_rad * input.w_O;
         if (f_wall.norm() > kDirectionForceThresholdN) {
           rec.force_direction_error_deg = AngleDeg(f_wall, InwardNormalTranslation(rsr, X_FM));
           if (rec.force_direction_error_deg >= 0) {
@@ -269,6 +280,8 @@ nlohmann::ordered_json SummaryJson(const Scenario& scenario, const CompareSettin
     x["saturation_time_s"] = m.saturation_time_s;
     x["wall_onset_mm"] = m.wall_onset_mm;
     x["wall_onset_deg"] = m.wall_onset_deg;
+    x["max_free_space_force_n"] = m.max_free_space_force_n;
+    x["max_free_space_torque_nm"] = m.max_free_space_torque_nm;
     x["deep_penetration_ticks"] = m.deep_penetration_ticks;
     x["fault_ticks"] = m.fault_ticks;
     methods[r.method] = x;

@@ -14,6 +14,8 @@
 //   energy_generated_j          energy the wall put into the hand: over each contact episode, the largest value of the
 //                               running integral of F·v + τ·ω (0 for a passive wall), summed over episodes
 //   tick_us_p50/p99/max         wall-clock time of HapticRenderer::Tick
+//   max_free_space_force_n      largest |F| (|τ|: _torque_nm) displayed while the commanded pose is inside the true
+//                               region: a phantom wall (the damper included)
 //   wall_onset_mm / _deg        push scenarios: signed distance to the true boundary where the wall first reached
 //                               2 N (0.05 N·m) — the workspace a method gives up before the true boundary
 
@@ -67,6 +69,10 @@ struct MethodMetrics {
   // (negative: before it). NaN-free: 0 if no push episode reached the threshold.
   double wall_onset_mm = 0;
   double wall_onset_deg = 0;
+  // No phantom wall: the largest force (torque) displayed while the commanded RSR pose is inside the true region
+  // (no penetration), the damper included — what the hand feels where there is no wall.
+  double max_free_space_force_n = 0;
+  double max_free_space_torque_nm = 0;
   int deep_penetration_ticks = 0;
   int fault_ticks = 0;
 };
