@@ -73,6 +73,13 @@ class FollowerUnitTest : public ::testing::Test {
     for (std::int64_t i = 0; i < n; ++i) Step();
   }
   double CmdX() const { return unit_.commanded_pose().translation().x() - home_.translation().x(); }
+  // Caps above what the motors' step rate can do along z (100 mm/s), with the acceleration to reach them.
+  FollowerConfig AboveTheStepRate() const {
+    FollowerConfig fast = config_;
+    fast.setpoint.caps.max_linear_speed_m_s = 0.1;
+    fast.setpoint.max_linear_accel_m_s2 = 100;
+    return fast;
+  }
   void EnableAndFollow() {
     Command(StateCommand::kEnable);
     Run(0.05);
@@ -93,12 +100,9 @@ TEST_F(FollowerUnitTest, FollowsTheSetPointsOnceEnabled) {
 TEST_F(FollowerUnitTest, PoweringUpAgainStartsFromWhereTheMotorsAre) {
   // Caps above what the step rate can do (100 mm/s along z): the motors lag the commanded pose. After a disable,
   // the next enable must start from the motors' pose, not catch up with the old command in one burst of steps.
-  FollowerConfig fast = config_;
-  fast.setpoint.caps.max_linear_speed_m_s = 0.1;
-  fast.setpoint.max_linear_accel_m_s2 = 100;
   InProcessLink link(clock_);
   actuation::PulseRecorderFollower back_end(model_, actuation_, home_, 1 << 20, 1 << 20);
-  FollowerUnit unit(model_, actuation_, fast, back_end, link, clock_);
+  FollowerUnit unit(model_, actuation_, AboveTheStepRate(), back_end, link, clock_);
   std::uint64_t seq = 0;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   const auto run = [&](double seconds, const Eigen::Vector3d& velocity, double* max_jump) {
@@ -143,12 +147,9 @@ TEST_F(FollowerUnitTest, CommandsOnlyWhatTheMotorsAchieve) {
   // Caps above what the step rate can do (100 mm/s along z): the actuator shortens the joint steps, and the
   // commanded pose must stay with the motors instead of running ahead of them (and catching up later at the full
   // step rate, e.g. after a hold).
-  FollowerConfig fast = config_;
-  fast.setpoint.caps.max_linear_speed_m_s = 0.1;
-  fast.setpoint.max_linear_accel_m_s2 = 100;
   InProcessLink link(clock_);
   actuation::PulseRecorderFollower back_end(model_, actuation_, home_, 1 << 20, 1 << 20);
-  FollowerUnit unit(model_, actuation_, fast, back_end, link, clock_);
+  FollowerUnit unit(model_, actuation_, AboveTheStepRate(), back_end, link, clock_);
   StateCommandMessage c;
   c.command = StateCommand::kEnable;
   ASSERT_TRUE(link.operator_commands().Send(c));
