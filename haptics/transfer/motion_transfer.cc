@@ -31,10 +31,10 @@ MotionTransfer::MotionTransfer(const TransferConfig& config, const Eigen::Isomet
 
 void MotionTransfer::Rebase(const Eigen::Isometry3d& X_FM) noexcept {
   // The filters are fixed-size: rebuilding them allocates nothing, and the config was validated at construction.
+  // The Kalman filter keeps its steady-state covariance (its construction iterates the Riccati recursion).
   upsampler_ = LinearUpsampler(config_.rates.upsampling_ratio(), Vector6d::Zero());
   moving_average_ = MovingAverage(config_.filter.moving_average_window, Vector6d::Zero());
-  kalman_ = KalmanCa(dt_fast_, config_.filter.kalman_jerk_psd, config_.filter.kalman_measurement_std_m,
-                     Vector6d::Zero());
+  kalman_.Reset(Vector6d::Zero());
   guard_ = CapGuard(dt_fast_, config_.caps, config_.filter.guard_position_gain_per_s,
                     config_.filter.guard_time_constant_s, Vector6d::Zero());
   const bool engaged = mapper_.clutch_engaged();

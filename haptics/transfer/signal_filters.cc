@@ -56,9 +56,15 @@ KalmanCa::KalmanCa(double dt, double q, double measurement_std, const Vector6d& 
     P_ = 0.5 * (P_next + P_next.transpose());
     if (change < 1e-13) break;
   }
+  P_steady_ = P_;
+  Reset(initial_position);
+}
+
+void KalmanCa::Reset(const Vector6d& position) noexcept {
+  P_ = P_steady_;
   K_.setZero();
   x_.setZero();
-  x_.row(0) = initial_position.transpose();
+  x_.row(0) = position.transpose();
 }
 
 void KalmanCa::Step(const Vector6d& z) noexcept {

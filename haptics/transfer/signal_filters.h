@@ -46,6 +46,8 @@ class KalmanCa {
   KalmanCa(double dt_s, double jerk_psd, double measurement_std, const Vector6d& initial_position);
 
   void Step(const Vector6d& measured_position) noexcept;
+  // At rest at `position` with the steady-state covariance, as after construction (no Riccati iteration).
+  void Reset(const Vector6d& position) noexcept;
   // Prediction only (no measurement: the HC stream is stale); the covariance grows by Q.
   void Predict() noexcept;
   const State& state() const { return x_; }
@@ -57,6 +59,7 @@ class KalmanCa {
   Eigen::Matrix3d Q_;
   double r2_;
   Eigen::Matrix3d P_;
+  Eigen::Matrix3d P_steady_;  // the Riccati fixed point, computed once at construction
   Eigen::Vector3d K_;
   State x_;
 };

@@ -59,6 +59,20 @@ TEST(KalmanCaTest, TracksConstantAccelerationWithoutBias) {
   EXPECT_NEAR(kf.state()(2, 0), a, 1e-4);
 }
 
+TEST(KalmanCaTest, ResetIsAFreshFilterAtThePosition) {
+  const Vector6d b = Vector6d::Constant(0.003);
+  KalmanCa used(1e-4, 1e-5, 1e-4, Vector6d::Zero());
+  for (int i = 0; i < 500; ++i) used.Step(Vector6d::Constant(1e-6 * i));
+  used.Reset(b);
+  KalmanCa fresh(1e-4, 1e-5, 1e-4, b);
+  for (int i = 0; i < 50; ++i) {
+    used.Step(b + Vector6d::Constant(1e-6 * i));
+    fresh.Step(b + Vector6d::Constant(1e-6 * i));
+  }
+  EXPECT_LT((used.state() - fresh.state()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((used.covariance() - fresh.covariance()).cwiseAbs().maxCoeff(), 1e-20);
+}
+
 TEST(CapGuardTest, NeverExceedsTheCapsOnTheNorm) {
   std::mt19937 gen{42};
   std::uniform_real_distribution<double> u(-1.0, 1.0);
