@@ -14,6 +14,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "src/core/config.h"
 #include "tests/support/robossis_cli.h"
 
 namespace {
@@ -52,7 +53,7 @@ class HostileInputTest : public ::testing::Test {
   fs::path DataDirWith(const std::string& name, Edit edit) const {
     const fs::path data = dir_ / "data";
     fs::create_directories(data);
-    fs::copy(std::getenv("ROBOSSIS_DATA_DIR"), data, fs::copy_options::recursive);
+    fs::copy(robossis::DefaultDataDir(), data, fs::copy_options::recursive);
     const fs::path file = data / "config" / name;
     const std::string text = Read(file);
     std::ofstream(file, std::ios::binary | std::ios::trunc) << edit(text);
