@@ -10,6 +10,7 @@
 #include "src/core/config.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
+#include "tests/teleop/follower_fixture.h"
 
 namespace robossis::teleop {
 namespace {
@@ -21,14 +22,8 @@ constexpr double kTickS = 1e-4;
 // to the speed cap along `direction_` within the acceleration cap (so that the validator accepts every set-point),
 // then cruises. The acceleration cap is the test's parameter: the shipped one (the stop takes 2 ms) and a low one
 // (0.1 m/s^2: the stop takes 0.1 s, longer than the watchdog's 30 ms, so the hold itself decelerates).
-class FollowerHoldTest : public ::testing::TestWithParam<double> {
+class FollowerHoldTest : public ::testing::TestWithParam<double>, protected ShippedFollowerSetup {
  protected:
-  const robot::RsrModel model_ = robot::RsrModel::Default();
-  const Eigen::Isometry3d home_ = model_.geometry().X_FM_home;
-  const actuation::ActuationConfig actuation_ =
-      actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml");
-  const transfer::TransferConfig transfer_ =
-      transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
   FollowerConfig config_ = Config(GetParam());
   const double v_cap_ = config_.setpoint.caps.max_linear_speed_m_s;
   const double a_cap_ = config_.setpoint.max_linear_accel_m_s2;

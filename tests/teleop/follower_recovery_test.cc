@@ -9,6 +9,7 @@
 #include "src/core/config.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
+#include "tests/teleop/follower_fixture.h"
 #include "tests/support/alloc_counter.h"
 
 namespace robossis::teleop {
@@ -48,16 +49,9 @@ class PushableFollower final : public robot::Follower {
   robot::RsrFollowerState state_;
 };
 
-class FollowerRecoveryTest : public ::testing::Test {
+class FollowerRecoveryTest : public ::testing::Test, protected ShippedFollowerSetup {
  protected:
-  const robot::RsrModel model_ = robot::RsrModel::Default();
-  const Eigen::Isometry3d home_ = model_.geometry().X_FM_home;
-  const actuation::ActuationConfig actuation_ =
-      actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml");
-  const transfer::TransferConfig transfer_ =
-      transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
-  const FollowerConfig config_ =
-      FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer_.caps);
+  const FollowerConfig config_ = ShippedFollowerConfig();
   rt::SimulatedClock clock_;
   InProcessLink link_{clock_};
   PushableFollower back_end_{model_, home_};

@@ -8,6 +8,7 @@
 #include "src/core/config.h"
 #include "src/core/units.h"
 #include "src/teleop/in_process_link.h"
+#include "tests/teleop/follower_fixture.h"
 #include "tests/support/alloc_counter.h"
 
 namespace robossis::teleop {
@@ -17,16 +18,9 @@ constexpr std::int64_t kTickNs = 100'000;  // 10 kHz
 
 // A follower unit on the simulated clock and the in-process link, with the pulse recorder as its back end, and a
 // scripted leader that sends one set-point every 10 ticks (1 kHz).
-class FollowerUnitTest : public ::testing::Test {
+class FollowerUnitTest : public ::testing::Test, protected ShippedFollowerSetup {
  protected:
-  const robot::RsrModel model_ = robot::RsrModel::Default();
-  const Eigen::Isometry3d home_ = model_.geometry().X_FM_home;
-  const actuation::ActuationConfig actuation_ =
-      actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml");
-  const transfer::TransferConfig transfer_ =
-      transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
-  const FollowerConfig config_ =
-      FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer_.caps);
+  const FollowerConfig config_ = ShippedFollowerConfig();
   rt::SimulatedClock clock_;
   InProcessLink link_{clock_};
   actuation::PulseRecorderFollower back_end_{model_, actuation_, home_, 1 << 16, 1 << 16};
