@@ -29,14 +29,15 @@ bool JogPlayer::StartMove(const Eigen::Vector3d& delta_p_F, const Eigen::Vector3
   transfer::TimedMoveRequest request;
   request.delta_p_F = delta_p_F;
   request.delta_rot_F = delta_rot_F;
-  request.start_time_s = clock_.NowS();
+  request.start_time_s = 0;
+  path_ticks_ = 0;
   move_.emplace(X_hold_, request, duration_s);  // eq. 9
   return true;
 }
 
 void JogPlayer::StopMove() noexcept {
   if (!move_) return;
-  X_hold_ = move_->Evaluate(clock_.NowS()).X_FM;  // eq. 9: where the path is now
+  X_hold_ = move_->Evaluate(static_cast<double>(path_ticks_) * period_s_).X_FM;  // eq. 9: where the path is now
   move_.reset();
 }
 
@@ -63,11 +64,12 @@ void JogPlayer::Tick() noexcept {
   Vector6d twist = Vector6d::Zero();
   std::uint8_t flags = 0;
   if (move_) {
-    const transfer::RsrSetPoint set_point = move_->Evaluate(now);  // eq. 9
+    const double path_time_s = static_cast<double>(++path_ticks_) * period_s_;
+    const transfer::RsrSetPoint set_point = move_->Evaluate(path_time_s);  // eq. 9
     X = set_point.X_FM;
     twist = set_point.velocity;
     flags = teleop::kSetPointPresence;
-    if (now >= move_->end_time_s()) {
+    if (path_time_s >= move_->end_time_s()) {
       X_hold_ = move_->X_FM_end();
       move_.reset();
     }

@@ -2,10 +2,13 @@
 // The panel's leader side outside haptic mode: it plays the panel's jogs (eq. 9 timed moves) as 1 kHz set-points
 // through a teleop::LeaderLink, exactly as a leader unit would, so that the follower unit validates and executes
 // them on its one path. It knows the follower only through the link's status messages. (In haptic mode the
-// runtime's leader unit sends the set-points instead: simulated_follower_backend.h.)
+// runtime's leader unit sends the set-points instead: local_session_backend.h.)
 //
 // Like a leader at rest, it sends a set-point every leader tick: the hold pose without the presence flag (the
 // follower holds in READY), and the eq. 9 pose with presence while a jog runs (the follower follows in ENABLED).
+// The path advances by one set-point period per set-point, not by the clock: a late tick (a loaded machine) lags
+// the move by that much instead of jumping along it, because the follower judges each set-point's step against its
+// caps over its sequence steps (teleop::SetPointValidator), as it does the leader unit's.
 // Stop ends the move where the path is: no more of its set-points are sent and the follower holds. Whenever the follower
 // leaves its powered states, a running move is dropped and, once powered again, the player re-synchronises its hold
 // pose to the measured pose in a new leader session (so the follower judges no rate across the gap).
@@ -25,7 +28,9 @@ namespace robossis::panel {
 
 class JogPlayer {
  public:
-  JogPlayer(teleop::LeaderLink& link, const rt::Clock& clock) noexcept : link_(link), clock_(clock) {}
+  // `period_s`: the time between two Tick()s, the set-point period.
+  JogPlayer(teleop::LeaderLink& link, const rt::Clock& clock, double period_s) noexcept
+      : link_(link), clock_(clock), period_s_(period_s) {}
 
   // Starts an eq. 9 move from the hold pose now; false (nothing sent) unless the follower is READY and idle.
   bool StartMove(const Eigen::Vector3d& delta_p_F, const Eigen::Vector3d& delta_rot_F, double duration_s) noexcept;
@@ -51,11 +56,13 @@ class JogPlayer {
  private:
   teleop::LeaderLink& link_;
   const rt::Clock& clock_;
+  const double period_s_;
   bool has_status_ = false;
   teleop::FollowerStatusMessage status_;
   bool synced_ = false;  // the hold pose belongs to the current powered period
   Eigen::Isometry3d X_hold_ = Eigen::Isometry3d::Identity();
   std::optional<transfer::TimedMove> move_;
+  std::int64_t path_ticks_ = 0;  // set-points the running move has sent: its time is path_ticks_ × period_s_
   std::uint64_t session_ = 1;
   std::uint64_t sequence_ = 0;
   double last_presence_s_ = -1;

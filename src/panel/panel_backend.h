@@ -1,7 +1,7 @@
 #pragma once
 // What the control panel (paper Fig. 13) needs from the runtime, and nothing more: the follower's latest status
 // snapshot, the loop health, state commands, and eq. 9 jogs. The panel's window and its scripted tests talk only to
-// this interface, so the same panel runs over the panel's in-process session (SimulatedFollowerBackend: the
+// this interface, so the same panel runs over the panel's in-process session (LocalSessionBackend: the
 // runtime's follower unit and, in haptic mode, its leader unit) or, later, over a remote follower.
 //
 // Threads: every call comes from the panel's (non-real-time) thread. Reads return copies of atomic snapshots and

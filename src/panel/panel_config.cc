@@ -14,9 +14,6 @@ PanelConfig PanelConfig::FromYaml(const std::filesystem::path& file) {
   config.plot_window_s = plots.NumberInRange("window_s", 0.5, 600);
   config.plot_capacity_samples = static_cast<int>(plots.NumberInRange("capacity_samples", 16, 1e6));
   config.jog_path_samples = static_cast<int>(root.Child("jog").NumberInRange("path_samples", 2, 1e6));
-  const ConfigNode sim = root.Child("simulated_follower");
-  config.sim_loop_rate_hz = sim.NumberInRange("loop_rate_hz", 10, 20000);
-  config.sim_with_gravity = sim.Bool("with_gravity");
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return config;
 }

@@ -11,8 +11,6 @@ struct PanelConfig {
   double plot_window_s = 10;
   int plot_capacity_samples = 2000;
   int jog_path_samples = 200;
-  double sim_loop_rate_hz = 10000;
-  bool sim_with_gravity = true;
 
   // Throws std::runtime_error naming the file and key.
   static PanelConfig FromYaml(const std::filesystem::path& file);

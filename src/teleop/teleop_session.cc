@@ -22,6 +22,25 @@ namespace robossis::teleop {
 
 std::vector<std::string> KnownFollowers() { return {"sim", "recorder", "hal"}; }
 
+std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
+                                                     double max_duration_s) {
+  const robot::RsrModel& rsr = *setup.rsr;
+  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
+  if (kind == "sim") {
+    sim::SimOptions options;
+    options.with_bone = false;  // at the home pose the fragments touch: a motion would push one into the other
+    options.with_traction = false;
+    return std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+  }
+  if (kind == "hal") return drivers::MakeHalFollower(rsr, setup.config_dir);
+  if (kind == "recorder") {
+    const double rate_hz = setup.transfer.rates.actuation_rate_hz;
+    const auto n = static_cast<std::size_t>(std::min(max_duration_s * rate_hz + 1000.0, 4.0e6));
+    return std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
+  }
+  throw std::invalid_argument("follower back end '" + kind + "' is not known (sim, recorder, hal)");
+}
+
 TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot::RsrModel& rsr,
                               const robot::Sigma7Model& sigma7) {
   const std::filesystem::path config = data_dir / "config";
@@ -114,22 +133,9 @@ struct FollowerSide {
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
                               const rt::Clock& clock) {
-  const robot::RsrModel& rsr = *setup.rsr;
-  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
   FollowerSide side;
-  if (request.follower == "sim") {
-    sim::SimOptions options;
-    options.with_bone = false;
-    options.with_traction = false;
-    side.back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
-  } else if (request.follower == "hal") {
-    side.back_end = drivers::MakeHalFollower(rsr, setup.config_dir);
-  } else {
-    const double rate_hz = setup.transfer.rates.actuation_rate_hz;
-    const auto n = static_cast<std::size_t>(std::min(request.duration_s * rate_hz + 1000.0, 4.0e6));
-    side.back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
-  }
-  side.unit = std::make_unique<FollowerUnit>(rsr, setup.actuation, setup.follower, *side.back_end, link, clock);
+  side.back_end = MakeFollowerBackEnd(request.follower, setup, request.duration_s);
+  side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, setup.follower, *side.back_end, link, clock);
   return side;
 }
 

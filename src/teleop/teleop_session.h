@@ -21,6 +21,7 @@
 #include "haptics/haptics_config.h"
 #include "haptics/transfer/transfer_config.h"
 #include "robot/actuation/actuation_config.h"
+#include "robot/follower.h"
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "robot/sim/sim_config.h"
@@ -70,6 +71,14 @@ struct TeleopOutputs {
 };
 
 std::vector<std::string> KnownFollowers();  // sim, recorder, hal
+
+// The follower back end `kind` names (KnownFollowers()), at the robot's home pose: the Bullet RSR without the bone
+// fragments, the LinuxCNC HAL drives (hal.yaml in setup.config_dir), or the pulse recorder sized for
+// `max_duration_s` of actuation ticks (at most 4e6 samples). The one factory of `robossis teleop`, `robossis
+// follower` and `robossis panel`. Throws std::invalid_argument for an unknown kind, std::runtime_error when the back
+// end cannot start (HAL not running, a bad hal.yaml).
+std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
+                                                     double max_duration_s);
 
 // Runs a session, writing its log to `log_file`. Throws std::invalid_argument on a bad request (naming the option),
 // std::runtime_error on a failure to write the log.

@@ -17,13 +17,12 @@
 
 #include "haptics/haptics_config.h"
 #include "haptics/transfer/transfer_config.h"
-#include "robot/actuation/actuation_config.h"
 #include "robot/sim/sim_config.h"
 #include "src/apps/panel/panel_window.h"
 #include "src/core/config.h"
 #include "src/core/rt/clock.h"
-#include "src/panel/simulated_follower_backend.h"
-#include "src/teleop/follower_config.h"
+#include "src/panel/local_session_backend.h"
+#include "src/teleop/teleop_session.h"
 
 namespace {
 
@@ -41,11 +40,11 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
                            nullptr,
                            haptics::HapticsConfig::FromYaml(config / "haptics.yaml").hardware_default_method};
   if (bone) models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
-  const teleop::FollowerConfig follower = teleop::FollowerConfig::FromYaml(config / "follower.yaml", transfer.caps);
-  const actuation::ActuationConfig actuation = actuation::ActuationConfig::FromYaml(config / "actuation.yaml");
   const rt::MonotonicClock clock;
-  panel::SimulatedFollowerBackend backend(models.rsr, sim_config, true, follower, actuation, panel::JogLimits{},
-                                          models.config.sim_loop_rate_hz, clock);
+  const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), models.rsr, models.hc);
+  panel::LocalSessionBackend backend(models.rsr, teleop::MakeFollowerBackEnd("sim", setup, 0), setup.follower,
+                                     setup.actuation, panel::JogLimits{}, setup.transfer.rates.actuation_rate_hz,
+                                     clock);
   if (loops) backend.Start();  // without the loops the follower stands still: the panel's own cost alone
   backend.SendCommand(teleop::StateCommand::kHome);
   if (!loops) {  // a status to draw: half a second of follower ticks on this thread, then nothing moves

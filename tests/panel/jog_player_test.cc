@@ -3,6 +3,7 @@
 // with strictly increasing sequences stamped by the shared clock, and starts a new leader session after the
 // follower was unpowered or another leader sent the set-points.
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -37,7 +38,7 @@ class JogPlayerTest : public ::testing::Test {
 
   rt::SimulatedClock clock_;
   teleop::InProcessLink link_{clock_};
-  JogPlayer player_{link_, clock_};
+  JogPlayer player_{link_, clock_, 1e-3};
   std::uint64_t status_sequence_ = 0;
 };
 
@@ -73,6 +74,27 @@ TEST_F(JogPlayerTest, PlaysAJogAsPresenceSetPointsAlongEq9AndHoldsWithoutPresenc
   EXPECT_EQ(after.flags, 0);
   EXPECT_NEAR(after.p_FM[2], 0.285, 1e-12);
   EXPECT_FALSE(player_.moving());
+}
+
+// A late tick (the leader-side loop preempted for 20 ms) lags the move: its next set-point is one set-point period
+// further along the path, not 20 ms, since the follower judges the step over the one sequence step.
+TEST_F(JogPlayerTest, ALateTickLagsTheMoveInsteadOfJumpingAlongIt) {
+  Follower(OperatingState::kReady, 0.28);
+  TickAndTake();
+  ASSERT_TRUE(player_.StartMove(Eigen::Vector3d(0, 0, 0.005), Eigen::Vector3d::Zero(), 1.0));
+  double z = TickAndTake().p_FM[2];
+  double largest_step_m = 0;
+  int ticks = 1;
+  for (; player_.moving() && ticks < 2000; ++ticks) {
+    if (ticks == 400) clock_.AdvanceNs(20'000'000);  // the stall, mid-move where the path is fastest
+    const double next = TickAndTake().p_FM[2];
+    largest_step_m = std::max(largest_step_m, next - z);
+    z = next;
+  }
+  // eq. 9's peak speed is pi/2 x 5 mm / 1 s = 7.85 mm/s: at most 7.85 um per 1 ms set-point.
+  EXPECT_LT(largest_step_m, 0.5 * M_PI * 0.005 * 1e-3 * (1 + 1e-9));
+  EXPECT_EQ(ticks, 1000);  // one set-point per period of the move, the stall included
+  EXPECT_NEAR(z, 0.285, 1e-12);
 }
 
 TEST_F(JogPlayerTest, AnUnpoweredFollowerDropsTheMoveAndResynchronisesInANewSession) {

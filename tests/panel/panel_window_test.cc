@@ -3,12 +3,9 @@
 // exits; `timeout` bounds a hung run.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -20,43 +17,13 @@
 #include "robot/rsr_model.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
+#include "tests/panel/panel_run.h"
 
 namespace {
 
-struct PanelRun {
-  int exit_code = -1;
-  std::string output;
-  nlohmann::json json;
-};
-
-std::filesystem::path TestDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("robossis_panel_test_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-// Writes the script and runs the panel over it with --json. stderr is kept apart so stdout parses.
-PanelRun RunPanel(const std::filesystem::path& dir, const std::string& script, const std::string& extra = "") {
-  const std::filesystem::path script_file = dir / "script.txt";
-  std::ofstream(script_file) << script;
-  const std::string command = "timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(ROBOSSIS_BINARY) +
-                              " panel --script " + script_file.string() + " --json " + extra + " 2>" +
-                              (dir / "stderr.txt").string();
-  PanelRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (run.exit_code == 0) run.json = nlohmann::json::parse(run.output, nullptr, false);
-  if (run.exit_code != 0) {
-    std::ifstream err(dir / "stderr.txt");
-    run.output += std::string(std::istreambuf_iterator<char>(err), {});
-  }
-  return run;
-}
+using robossis::testing::PanelRun;
+using robossis::testing::RunPanel;
+using robossis::testing::TestDir;
 
 double HomeZmm() {
   const robossis::robot::RsrModel model =
@@ -140,7 +107,7 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
                                 "--no-slice --no-bone");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   // Clutched (the follower holds), or holding for a tick because the leader side's set-point came late on a loaded
-  // machine (ready); the exact state sequence is SimulatedFollowerBackendTest's, in simulated time.
+  // machine (ready); the exact state sequence is LocalSessionBackendTest's, in simulated time.
   const std::string state = run.json["state"];
   EXPECT_TRUE(state == "clutched" || state == "ready") << state;
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");

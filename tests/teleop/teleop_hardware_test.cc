@@ -4,7 +4,6 @@
 
 #include <dlfcn.h>
 
-#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -13,6 +12,7 @@
 #include "src/core/config.h"
 #include "src/teleop/teleop_session.h"
 #include "tests/drivers/hal_session.h"
+#include "tests/drivers/stepgen_counts.h"
 #include "tests/haptics/fake_dhd/fake_dhd_control.h"
 #include "tests/teleop/teleop_fixture.h"
 
@@ -39,20 +39,6 @@ class FakeSdkControls {
   void* handle_;
 };
 
-// LinuxCNC's step counts are the commanded joint positions in steps (the eq. 17 count: position-scale is the
-// actuation config's steps per unit), within one step per motor. Returns the steps travelled, all motors.
-double ExpectCountsMatchTheCommand() {
-  double moved_steps = 0;
-  for (int m = 0; m < 6; ++m) {
-    const std::string g = "stepgen." + std::to_string(m) + ".";
-    const double counts = HalSession::GetNumber(g + "counts");
-    const double commanded = HalSession::GetNumber(g + "position-cmd") * HalSession::GetNumber(g + "position-scale");
-    EXPECT_NEAR(counts, commanded, 1.0) << "motor " << m;
-    moved_steps += std::abs(counts);
-  }
-  return moved_steps;
-}
-
 void ExpectASafeSession(const nlohmann::ordered_json& s) {
   EXPECT_GT(s["follower_ticks"].get<double>(), 1000);
   EXPECT_EQ(s["follower_limit_violations"].get<double>(), 0);
@@ -72,7 +58,8 @@ TEST(TeleopHardwareTest, AReplayedFastHandDrivesTheStepgenWithinTheLimits) {
   const std::filesystem::path log = std::filesystem::path(::testing::TempDir()) / "teleop_hardware_replay.rlog";
   const TeleopOutputs out = RunTeleop(request, setup, log);
   ExpectASafeSession(out.summary);
-  ExpectCountsMatchTheCommand();  // where the replay left the robot (it moves mostly in x-y: the rotary joints)
+  // Where the replay left the robot (it moves mostly in x-y: the rotary joints).
+  robossis::testing::ExpectStepgenCountsMatchTheCommand();
   EXPECT_GT(out.summary["max_follower_speed_mm_s"].get<double>(), 5.0) << "the replay did not move the robot";
 }
 
@@ -100,7 +87,7 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   const TeleopOutputs out = RunTeleop(request, setup, log);
 
   ExpectASafeSession(out.summary);
-  EXPECT_GT(ExpectCountsMatchTheCommand(), 1000)
+  EXPECT_GT(robossis::testing::ExpectStepgenCountsMatchTheCommand(), 1000)
       << "the 5 mm hand motion did not reach the drives; summary: " << out.summary.dump();
 }
 

@@ -1,6 +1,7 @@
-// robossis panel: the control panel window over the panel's own session: the follower unit over the Bullet RSR
-// and, in haptic mode, the leader unit with a haptic device (the simulated sigma.7 unless --device says otherwise);
-// or, with --link dds, a remote follower over the two-machine link with the panel's credentials.
+// robossis panel: the control panel window over the panel's own session: the follower unit over a follower back end
+// (the Bullet RSR unless --follower says otherwise) and, in haptic mode, the leader unit with a haptic device (the
+// simulated sigma.7 unless --device says otherwise); or, with --link dds, a remote follower over the two-machine link
+// with the panel's credentials.
 
 #include <iostream>
 #include <memory>
@@ -17,7 +18,7 @@
 #include "src/core/rt/clock.h"
 #include "src/core/units.h"
 #include "src/panel/dds_follower_backend.h"
-#include "src/panel/simulated_follower_backend.h"
+#include "src/panel/local_session_backend.h"
 #include "src/panel/view_model.h"
 #include "src/teleop/follower_config.h"
 #include "src/teleop/teleop_session.h"
@@ -59,13 +60,15 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     bool no_slice = false;
     bool json = false;
     std::string device = "sim";
+    std::string follower = "sim";
     std::string link_kind = "sim";
     link::LinkOptions link_options;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "panel",
-      "The control panel (Fig. 13) over a simulated follower: jog (eq. 9), haptic mode, E-stop, 3-D view, gauges.\n"
+      "The control panel (Fig. 13): jog (eq. 9), haptic mode, E-stop, 3-D view, gauges; over its own follower unit "
+      "(simulated, or the robot's HAL drives) or a remote one over DDS.\n"
       "Example: xvfb-run -a robossis panel --script jog.txt --screenshot panel.png --json");
   cmd->add_option("--script", options->script, "Timed UI actions to play (see src/panel/script.h)")
       ->check(CLI::ExistingFile);
@@ -78,13 +81,17 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-slice", options->no_slice, "Do not draw the live workspace slice");
   cmd->add_option("--device", options->device,
                   "Haptic device of haptic mode: sim (the simulated sigma.7, default), replay:FILE.csv, dhd[:...]");
+  CLI::Option* follower = cmd->add_option("--follower", options->follower,
+                  "Follower back end of the panel's own session: sim (the Bullet RSR, default) or hal (the robot's "
+                  "LinuxCNC HAL drives on this machine, hal.yaml; halrun must be running the HAL file)")
+      ->check(CLI::IsMember({"sim", "hal"}));
   cmd->add_option("--link", options->link_kind,
                   "sim: the panel's own in-process session (default); dds: a remote follower over the link, with the "
                   "panel's credentials (state commands only)")
       ->check(CLI::IsMember({"sim", "dds"}));
   AddLinkOptions(*cmd, options->link_options);
   cmd->add_flag("--json", options->json, "Print the final follower status and the frame times as JSON");
-  cmd->callback([options, &context] {
+  cmd->callback([options, follower, &context] {
     const PanelModels models = LoadPanelModels(context, !options->no_bone);
     PanelWindowOptions window;
     window.width_px = options->width > 0 ? options->width : models.config.window_width_px;
@@ -102,13 +109,16 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     const rt::MonotonicClock clock;
     std::unique_ptr<panel::PanelBackend> backend;
     if (options->link_kind == "dds") {
+      if (follower->count() > 0)
+        throw std::invalid_argument("--follower: only for the panel's own session (--link sim); a remote follower "
+                                    "(--link dds) runs its own back end");
       CheckLinkOptions(options->link_options, std::cerr);
       options->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
       backend = std::make_unique<panel::DdsFollowerBackend>(options->link_options);
     } else {
-      auto simulated = std::make_unique<panel::SimulatedFollowerBackend>(
-          models.rsr, setup.sim, models.config.sim_with_gravity, setup.follower, setup.actuation, limits,
-          models.config.sim_loop_rate_hz, clock);
+      auto simulated = std::make_unique<panel::LocalSessionBackend>(
+          models.rsr, teleop::MakeFollowerBackEnd(options->follower, setup, 0), setup.follower, setup.actuation,
+          limits, setup.transfer.rates.actuation_rate_hz, clock);
       try {
         simulated->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
                                        nullptr});
@@ -119,7 +129,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
       backend = std::move(simulated);
     }
     const PanelRunResult result = RunPanelWindow(*backend, models, window);
-    if (auto* simulated = dynamic_cast<panel::SimulatedFollowerBackend*>(backend.get())) simulated->Stop();
+    if (auto* simulated = dynamic_cast<panel::LocalSessionBackend*>(backend.get())) simulated->Stop();
     if (!options->json) return;
     teleop::FollowerStatusMessage status;
     backend->ReadStatus(status);
@@ -138,6 +148,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
                      {"caps", result.cap_preset}, {"method", result.rendering_method},
                      {"max_hand_force_n", result.max_hand_force_n}, {"device", options->device}};
     out["link"] = options->link_kind;
+    out["follower"] = options->link_kind == "dds" ? "remote" : options->follower;
     out["state"] = view.state_name;
     out["fault_reason"] = teleop::ToString(status.fault_reason);
     out["pose_mm_deg"] = view.pose_mm_deg;

@@ -1,7 +1,7 @@
 #pragma once
 // The control panel's window (paper Fig. 13): Dear ImGui on GLFW and OpenGL 3, drawing a PanelController over any
 // PanelBackend. `robossis panel` runs it over the panel's own in-process session (the follower unit over the Bullet
-// RSR and, in haptic mode, the leader unit with the simulated sigma.7: panel::SimulatedFollowerBackend). The window
+// RSR and, in haptic mode, the leader unit with the simulated sigma.7: panel::LocalSessionBackend). The window
 // thread only reads snapshots and queues commands: it never blocks a real-time loop.
 
 #include <array>

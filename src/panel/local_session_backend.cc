@@ -1,4 +1,4 @@
-#include "src/panel/simulated_follower_backend.h"
+#include "src/panel/local_session_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,21 +24,12 @@ constexpr double kSetPointRateHz = 1000;
 constexpr int kFollowerFifoPriority = 81;
 constexpr int kLeaderFifoPriority = 80;
 
-sim::SimOptions MechanismOnly(bool gravity) {
-  sim::SimOptions options;
-  options.with_bone = false;      // at the home pose the fragments touch: a jog would push one into the other
-  options.with_traction = false;
-  options.gravity = gravity;
-  return options;
-}
-
 }  // namespace
 
-SimulatedFollowerBackend::SimulatedFollowerBackend(const robot::RsrModel& model, const sim::SimConfig& sim_config,
-                                                   bool gravity, const teleop::FollowerConfig& follower_config,
-                                                   const actuation::ActuationConfig& actuation_config,
-                                                   const JogLimits& jog_limits, double tick_rate_hz,
-                                                   const rt::Clock& clock)
+LocalSessionBackend::LocalSessionBackend(const robot::RsrModel& model, std::unique_ptr<robot::Follower> back_end,
+                                         const teleop::FollowerConfig& follower_config,
+                                         const actuation::ActuationConfig& actuation_config,
+                                         const JogLimits& jog_limits, double tick_rate_hz, const rt::Clock& clock)
     : model_(model),
       jog_limits_(jog_limits),
       period_s_(1.0 / tick_rate_hz),
@@ -46,22 +37,24 @@ SimulatedFollowerBackend::SimulatedFollowerBackend(const robot::RsrModel& model,
       clock_(clock),
       follower_config_(follower_config),
       actuation_config_(actuation_config),
-      sim_(std::make_unique<sim::RsrSimulation>(model, sim_config, nullptr, nullptr, model.geometry().X_FM_home,
-                                                MechanismOnly(gravity))),
+      back_end_(std::move(back_end)),
       link_(clock),
-      player_(link_, clock) {
-  sim_->Disable();  // the follower starts DISABLED, drives holding
-  unit_ = std::make_unique<teleop::FollowerUnit>(model_, actuation_config_, follower_config_, *sim_, link_, clock_);
+      player_(link_, clock, 1.0 / kSetPointRateHz) {
+  if (!back_end_) throw std::invalid_argument("panel session: no follower back end");
+  back_end_->Disable();  // the follower starts DISABLED, drives holding
+  unit_ = std::make_unique<teleop::FollowerUnit>(model_, actuation_config_, follower_config_, *back_end_, link_,
+                                                 clock_);
   health_record_.period_s = period_s_;
   health_.Publish(health_record_);
 }
 
-SimulatedFollowerBackend::~SimulatedFollowerBackend() {
+LocalSessionBackend::~LocalSessionBackend() {
   Stop();
-  if (device_) device_->EnableForces(false);  // the session is over: the device's forces off
+  if (device_) device_->EnableForces(false);  // the session is over: the device's forces off, the drives disabled
+  back_end_->Disable();
 }
 
-void SimulatedFollowerBackend::AttachHapticLeader(HapticLeaderSetup setup) {
+void LocalSessionBackend::AttachHapticLeader(HapticLeaderSetup setup) {
   if (setup.sigma7 == nullptr) throw std::invalid_argument("haptic leader: no sigma.7 model");
   setup.leader.rate_hz = kSetPointRateHz;  // the panel's leader side runs at the link's rate
   setup.leader.Validate();
@@ -77,7 +70,7 @@ void SimulatedFollowerBackend::AttachHapticLeader(HapticLeaderSetup setup) {
   haptic_setup_ = std::make_unique<HapticLeaderSetup>(std::move(setup));
 }
 
-std::vector<std::string> SimulatedFollowerBackend::Start() {
+std::vector<std::string> LocalSessionBackend::Start() {
   if (follower_loop_) return {};
   const auto* clock = dynamic_cast<const rt::MonotonicClock*>(&clock_);
   if (clock == nullptr) throw std::logic_error("simulated follower: the loops need the MonotonicClock");
@@ -99,16 +92,16 @@ std::vector<std::string> SimulatedFollowerBackend::Start() {
   return warnings;
 }
 
-void SimulatedFollowerBackend::Stop() {
+void LocalSessionBackend::Stop() {
   if (follower_loop_) follower_loop_->Stop();
   if (leader_loop_) leader_loop_->Stop();
 }
 
-bool SimulatedFollowerBackend::ReadLeaderRecord(teleop::LeaderTickRecord& record) noexcept {
+bool LocalSessionBackend::ReadLeaderRecord(teleop::LeaderTickRecord& record) noexcept {
   return !leaders_.empty() && leaders_.back()->unit->latest().Read(record);
 }
 
-bool SimulatedFollowerBackend::ReadHandWrench(HandWrench& wrench) noexcept {
+bool LocalSessionBackend::ReadHandWrench(HandWrench& wrench) noexcept {
   wrench = HandWrench{};  // zero unless the haptic leader runs: no device force outside haptic mode
   teleop::LeaderTickRecord record;
   if (!haptic_granted_ || !ReadLeaderRecord(record)) return true;
@@ -123,7 +116,7 @@ bool SimulatedFollowerBackend::ReadHandWrench(HandWrench& wrench) noexcept {
   return true;
 }
 
-bool SimulatedFollowerBackend::ReadCommandedPose(Eigen::Isometry3d& X_FM) noexcept {
+bool LocalSessionBackend::ReadCommandedPose(Eigen::Isometry3d& X_FM) noexcept {
   CommandedPose pose;
   if (!commanded_.Read(pose)) return false;
   X_FM = Eigen::Isometry3d::Identity();
@@ -132,7 +125,7 @@ bool SimulatedFollowerBackend::ReadCommandedPose(Eigen::Isometry3d& X_FM) noexce
   return true;
 }
 
-bool SimulatedFollowerBackend::SendCommand(teleop::StateCommand command) noexcept {
+bool LocalSessionBackend::SendCommand(teleop::StateCommand command) noexcept {
   teleop::StateCommandMessage message;
   message.sequence = ++command_sequence_;
   message.stamp_ns = static_cast<std::int64_t>(std::llround(clock_.NowS() * 1e9));
@@ -141,7 +134,7 @@ bool SimulatedFollowerBackend::SendCommand(teleop::StateCommand command) noexcep
   return link_.operator_commands().Send(message);
 }
 
-JogVerdict SimulatedFollowerBackend::PreviewJog(const JogRequest& request) {
+JogVerdict LocalSessionBackend::PreviewJog(const JogRequest& request) {
   teleop::FollowerStatusMessage status;
   if (!ReadStatus(status)) {
     JogVerdict verdict;
@@ -156,7 +149,7 @@ JogVerdict SimulatedFollowerBackend::PreviewJog(const JogRequest& request) {
   return verdict;
 }
 
-JogVerdict SimulatedFollowerBackend::StartJog(const JogRequest& request) {
+JogVerdict LocalSessionBackend::StartJog(const JogRequest& request) {
   JogVerdict verdict = PreviewJog(request);
   if (!verdict.accepted) return verdict;
   Order order;
@@ -174,13 +167,13 @@ JogVerdict SimulatedFollowerBackend::StartJog(const JogRequest& request) {
   return verdict;
 }
 
-void SimulatedFollowerBackend::StopJog() noexcept {
+void LocalSessionBackend::StopJog() noexcept {
   Order order;
   order.kind = Order::kStopJog;
   orders_.TryPush(order);
 }
 
-std::unique_ptr<SimulatedFollowerBackend::HapticLeader> SimulatedFollowerBackend::BuildLeader(
+std::unique_ptr<LocalSessionBackend::HapticLeader> LocalSessionBackend::BuildLeader(
     const HapticModeRequest& request, const Eigen::Isometry3d& X_FM_start) {
   const HapticLeaderSetup& setup = *haptic_setup_;
   const std::vector<std::string> methods = haptics::KnownMethods();
@@ -203,7 +196,7 @@ std::unique_ptr<SimulatedFollowerBackend::HapticLeader> SimulatedFollowerBackend
   return leader;
 }
 
-void SimulatedFollowerBackend::FreeRetiredLeaders() noexcept {
+void LocalSessionBackend::FreeRetiredLeaders() noexcept {
   HapticLeader* retired = nullptr;
   while (retired_.TryPop(retired)) {
     for (auto it = leaders_.begin(); it != leaders_.end(); ++it) {
@@ -214,7 +207,7 @@ void SimulatedFollowerBackend::FreeRetiredLeaders() noexcept {
   }
 }
 
-bool SimulatedFollowerBackend::RequestHapticMode(const HapticModeRequest& request, std::string& reason) {
+bool LocalSessionBackend::RequestHapticMode(const HapticModeRequest& request, std::string& reason) {
   reason.clear();
   FreeRetiredLeaders();
   if (!haptic_setup_) {
@@ -265,7 +258,7 @@ bool SimulatedFollowerBackend::RequestHapticMode(const HapticModeRequest& reques
 
 // ---- loop thread ----
 
-void SimulatedFollowerBackend::LeaderSideTick() noexcept {
+void LocalSessionBackend::LeaderSideTick() noexcept {
   Order order;
   while (orders_.TryPop(order)) {
     switch (order.kind) {
@@ -307,12 +300,12 @@ void SimulatedFollowerBackend::LeaderSideTick() noexcept {
   }
 }
 
-void SimulatedFollowerBackend::Step() noexcept {
+void LocalSessionBackend::Step() noexcept {
   if (!threaded_ && tick_ % static_cast<std::uint64_t>(ticks_per_setpoint_) == 0) LeaderSideTick();
   FollowerTick();
 }
 
-void SimulatedFollowerBackend::FollowerTick() noexcept {
+void LocalSessionBackend::FollowerTick() noexcept {
   const double now_s = clock_.NowS();
   if (last_step_s_ >= 0) {
     health_record_.last_jitter_s = std::abs((now_s - last_step_s_) - period_s_);

@@ -14,13 +14,10 @@
 
 #include "haptics/rendering/renderer_factory.h"
 
-#include "haptics/transfer/transfer_config.h"
-#include "robot/actuation/actuation_config.h"
-#include "robot/sim/sim_config.h"
 #include "src/core/rt/clock.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
-#include "src/panel/simulated_follower_backend.h"
+#include "src/panel/local_session_backend.h"
 #include "src/panel/view_model.h"
 #include "src/teleop/teleop_session.h"
 #include "tests/support/alloc_counter.h"
@@ -31,26 +28,20 @@ namespace {
 using teleop::OperatingState;
 using teleop::StateCommand;
 
-class SimulatedFollowerBackendTest : public ::testing::Test {
+class LocalSessionBackendTest : public ::testing::Test {
  protected:
-  static teleop::FollowerConfig Follower() {
-    const transfer::TransferConfig transfer =
-        transfer::TransferConfig::FromYaml(DefaultDataDir() / "config" / "transfer.yaml");
-    return teleop::FollowerConfig::FromYaml(DefaultDataDir() / "config" / "follower.yaml", transfer.caps);
-  }
   static JogLimits Limits(const teleop::FollowerConfig& follower) {
     JogLimits limits;
     limits.setpoint = follower.setpoint;  // the preview's limits are the follower unit's
     return limits;
   }
 
-  SimulatedFollowerBackendTest()
+  LocalSessionBackendTest()
       : model_(robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml")),
         sigma7_(robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml")),
-        follower_(Follower()),
-        backend_(model_, sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir()), true,
-                 follower_, actuation::ActuationConfig::FromYaml(DefaultDataDir() / "config" / "actuation.yaml"),
-                 Limits(follower_), 10000, clock_) {}
+        setup_(teleop::TeleopSetup::Load(DefaultDataDir(), model_, sigma7_)),
+        backend_(model_, teleop::MakeFollowerBackEnd("sim", setup_, 0), setup_.follower, setup_.actuation,
+                 Limits(setup_.follower), 10000, clock_) {}
 
   void Run(double seconds) {
     const int ticks = static_cast<int>(seconds * 10000 + 0.5);
@@ -79,8 +70,7 @@ class SimulatedFollowerBackendTest : public ::testing::Test {
 
   // The panel's haptic leader as `robossis panel` attaches it, with the given device.
   void AttachLeader(const std::string& device) {
-    const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model_, sigma7_);
-    backend_.AttachHapticLeader({&sigma7_, setup.haptics, setup.transfer, setup.leader, device, nullptr});
+    backend_.AttachHapticLeader({&sigma7_, setup_.haptics, setup_.transfer, setup_.leader, device, nullptr});
   }
   static HapticModeRequest Haptic(bool enabled, bool clutched, const std::string& method, double linear_mm_s) {
     const std::vector<std::string> methods = haptics::KnownMethods();
@@ -102,11 +92,11 @@ class SimulatedFollowerBackendTest : public ::testing::Test {
   rt::SimulatedClock clock_;
   robot::RsrModel model_;
   robot::Sigma7Model sigma7_;
-  teleop::FollowerConfig follower_;
-  SimulatedFollowerBackend backend_;
+  teleop::TeleopSetup setup_;
+  LocalSessionBackend backend_;
 };
 
-TEST_F(SimulatedFollowerBackendTest, StartsDisabledAndRefusesJogsUntilHomed) {
+TEST_F(LocalSessionBackendTest, StartsDisabledAndRefusesJogsUntilHomed) {
   Run(0.05);
   EXPECT_EQ(Status().state, OperatingState::kDisabled);
   const JogVerdict verdict = backend_.StartJog(JogZ(5, 2));
@@ -115,7 +105,7 @@ TEST_F(SimulatedFollowerBackendTest, StartsDisabledAndRefusesJogsUntilHomed) {
   HomeToReady();
 }
 
-TEST_F(SimulatedFollowerBackendTest, AJogMovesTheRobotByTheRequestedAmount) {
+TEST_F(LocalSessionBackendTest, AJogMovesTheRobotByTheRequestedAmount) {
   HomeToReady();
   const Eigen::Vector3d start = PoseOf(Status()).translation();
   const JogVerdict verdict = backend_.StartJog(JogZ(5, 1));
@@ -129,7 +119,7 @@ TEST_F(SimulatedFollowerBackendTest, AJogMovesTheRobotByTheRequestedAmount) {
   EXPECT_GE(health.setpoint_age_s, 0);
 }
 
-TEST_F(SimulatedFollowerBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitValidatesAndFollows) {
+TEST_F(LocalSessionBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitValidatesAndFollows) {
   HomeToReady();
   const std::uint64_t accepted_before = backend_.follower_counters().setpoints_accepted;
   ASSERT_TRUE(backend_.StartJog(JogZ(5, 1)).accepted);
@@ -144,7 +134,7 @@ TEST_F(SimulatedFollowerBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitV
   EXPECT_GT(Status().setpoints_accepted, accepted_before);  // the status the panel shows is the unit's
 }
 
-TEST_F(SimulatedFollowerBackendTest, ARefusedMoveLeavesTheRobotStill) {
+TEST_F(LocalSessionBackendTest, ARefusedMoveLeavesTheRobotStill) {
   HomeToReady();
   Run(0.5);
   const Eigen::Vector3d start = PoseOf(Status()).translation();
@@ -156,7 +146,7 @@ TEST_F(SimulatedFollowerBackendTest, ARefusedMoveLeavesTheRobotStill) {
   EXPECT_EQ(Status().state, OperatingState::kReady);
 }
 
-TEST_F(SimulatedFollowerBackendTest, EStopLatchesUntilReset) {
+TEST_F(LocalSessionBackendTest, EStopLatchesUntilReset) {
   HomeToReady();
   ASSERT_TRUE(backend_.StartJog(JogZ(5, 2)).accepted);
   Run(0.5);
@@ -187,7 +177,7 @@ TEST_F(SimulatedFollowerBackendTest, EStopLatchesUntilReset) {
   EXPECT_EQ(Status().state, OperatingState::kReady);
 }
 
-TEST_F(SimulatedFollowerBackendTest, StopEndsAJogWhereItIs) {
+TEST_F(LocalSessionBackendTest, StopEndsAJogWhereItIs) {
   HomeToReady();
   const double z0 = PoseOf(Status()).translation().z();
   ASSERT_TRUE(backend_.StartJog(JogZ(10, 4)).accepted);
@@ -200,7 +190,7 @@ TEST_F(SimulatedFollowerBackendTest, StopEndsAJogWhereItIs) {
   EXPECT_EQ(Status().state, OperatingState::kReady);
 }
 
-TEST_F(SimulatedFollowerBackendTest, HapticModeIsRefusedWithoutAHapticDevice) {
+TEST_F(LocalSessionBackendTest, HapticModeIsRefusedWithoutAHapticDevice) {
   HomeToReady();
   std::string reason;
   EXPECT_FALSE(backend_.RequestHapticMode(Haptic(true, false, "proxy-safe", 2), reason));
@@ -209,7 +199,7 @@ TEST_F(SimulatedFollowerBackendTest, HapticModeIsRefusedWithoutAHapticDevice) {
   EXPECT_EQ(Status().state, OperatingState::kReady);
 }
 
-TEST_F(SimulatedFollowerBackendTest, HapticModeRunsTheLeaderUnitWithTheSimulatedSigma7AndClutches) {
+TEST_F(LocalSessionBackendTest, HapticModeRunsTheLeaderUnitWithTheSimulatedSigma7AndClutches) {
   AttachLeader("sim");
   HomeToReady();
   std::string reason;
@@ -282,7 +272,7 @@ std::filesystem::path WriteWallPushScript(const robot::RsrModel& model) {
   return file;
 }
 
-TEST_F(SimulatedFollowerBackendTest, TheHandPushingIntoAWallFeelsTheRenderedForce) {
+TEST_F(LocalSessionBackendTest, TheHandPushingIntoAWallFeelsTheRenderedForce) {
   const std::filesystem::path script = WriteWallPushScript(model_);
   AttachLeader("replay:" + script.string());
   HomeToReady();
@@ -318,7 +308,7 @@ TEST_F(SimulatedFollowerBackendTest, TheHandPushingIntoAWallFeelsTheRenderedForc
   EXPECT_LT(min_margin, 1e-3);  // and it is at the wall, not short of it
 }
 
-TEST_F(SimulatedFollowerBackendTest, TheTickAllocatesNothingInHapticModeEither) {
+TEST_F(LocalSessionBackendTest, TheTickAllocatesNothingInHapticModeEither) {
   AttachLeader("sim");
   HomeToReady();
   std::string reason;
@@ -330,7 +320,7 @@ TEST_F(SimulatedFollowerBackendTest, TheTickAllocatesNothingInHapticModeEither) 
   EXPECT_EQ(Status().state, OperatingState::kEnabled);
 }
 
-TEST_F(SimulatedFollowerBackendTest, TheTickAllocatesNothing) {
+TEST_F(LocalSessionBackendTest, TheTickAllocatesNothing) {
   HomeToReady();
   ASSERT_TRUE(backend_.StartJog(JogZ(5, 1)).accepted);
   backend_.SendCommand(StateCommand::kEnable);  // queued before counting: pushing is the panel thread's work

@@ -1,7 +1,8 @@
 #pragma once
-// The panel's own session, for `robossis panel` without a teleoperation runtime: the runtime's follower unit
-// (teleop::FollowerUnit: commands, set-point validation, the state machine, watchdog, guard, actuation) over the
-// Bullet RSR (sim::RsrSimulation, without the fragments) through a teleop::InProcessLink, and on the link's leader
+// The panel's own session, for `robossis panel` without a remote follower: the runtime's follower unit
+// (teleop::FollowerUnit: commands, set-point validation, the state machine, watchdog, guard, actuation) over a
+// follower back end (teleop::MakeFollowerBackEnd: the Bullet RSR by default, or the LinuxCNC HAL drives of a real
+// robot on this machine) through a teleop::InProcessLink, and on the link's leader
 // side either the panel's jogs or, in haptic mode, the runtime's leader unit (teleop::LeaderUnit) with a haptic
 // device (the simulated sigma.7 by default) and the chosen rendering method. Behind the same PanelBackend as the
 // runtime's, so the panel and its scripted tests do not depend on which one runs.
@@ -38,8 +39,7 @@
 #include "robot/actuation/actuation_config.h"
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
-#include "robot/sim/rsr_simulation.h"
-#include "robot/sim/sim_config.h"
+#include "robot/follower.h"
 #include "src/core/rt/clock.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/snapshot.h"
@@ -65,15 +65,15 @@ struct HapticLeaderSetup {
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the "mesh" method's (the others do without)
 };
 
-class SimulatedFollowerBackend final : public PanelBackend {
+class LocalSessionBackend final : public PanelBackend {
  public:
   // `clock` is the shared clock of the link, the follower unit and the jog player: a MonotonicClock for the loop
-  // thread, a SimulatedClock for a test that advances it and calls Step(). Keeps references to model and clock.
-  SimulatedFollowerBackend(const robot::RsrModel& model, const sim::SimConfig& sim_config, bool gravity,
-                           const teleop::FollowerConfig& follower_config,
-                           const actuation::ActuationConfig& actuation_config, const JogLimits& jog_limits,
-                           double tick_rate_hz, const rt::Clock& clock);
-  ~SimulatedFollowerBackend() override;
+  // thread, a SimulatedClock for a test that advances it and calls Step(). `back_end` is disabled here (the follower
+  // unit starts DISABLED). Keeps references to model and clock.
+  LocalSessionBackend(const robot::RsrModel& model, std::unique_ptr<robot::Follower> back_end,
+                      const teleop::FollowerConfig& follower_config, const actuation::ActuationConfig& actuation_config,
+                      const JogLimits& jog_limits, double tick_rate_hz, const rt::Clock& clock);
+  ~LocalSessionBackend() override;
 
   // Gives the panel a haptic leader: opens the device (haptics::MakeDevice) and enables its forces. Call before
   // Start() or the first Step(). Without it, haptic mode is refused. Throws std::invalid_argument for an unknown
@@ -125,19 +125,19 @@ class SimulatedFollowerBackend final : public PanelBackend {
   // The two loops' tasks.
   class FollowerTask final : public rt::PeriodicTask {
    public:
-    explicit FollowerTask(SimulatedFollowerBackend& backend) : backend_(backend) {}
+    explicit FollowerTask(LocalSessionBackend& backend) : backend_(backend) {}
     void Tick(std::int64_t) noexcept override { backend_.Step(); }
 
    private:
-    SimulatedFollowerBackend& backend_;
+    LocalSessionBackend& backend_;
   };
   class LeaderTask final : public rt::PeriodicTask {
    public:
-    explicit LeaderTask(SimulatedFollowerBackend& backend) : backend_(backend) {}
+    explicit LeaderTask(LocalSessionBackend& backend) : backend_(backend) {}
     void Tick(std::int64_t) noexcept override { backend_.LeaderSideTick(); }
 
    private:
-    SimulatedFollowerBackend& backend_;
+    LocalSessionBackend& backend_;
   };
   void LeaderSideTick() noexcept;
   void FollowerTick() noexcept;
@@ -152,7 +152,7 @@ class SimulatedFollowerBackend final : public PanelBackend {
   const rt::Clock& clock_;
   const teleop::FollowerConfig follower_config_;        // the follower unit keeps references to its arguments
   const actuation::ActuationConfig actuation_config_;
-  std::unique_ptr<sim::RsrSimulation> sim_;
+  std::unique_ptr<robot::Follower> back_end_;
   teleop::InProcessLink link_;
   std::unique_ptr<teleop::FollowerUnit> unit_;
   JogPlayer player_;

@@ -1,0 +1,111 @@
+// The panel's own session on the robot's drives (`robossis panel --follower hal`): the follower unit's 10 kHz
+// actuation into the LinuxCNC HAL follower, driving a software stepgen in a halrun session the test starts and
+// stops. Once through the session's API (panel::LocalSessionBackend on its real-time loops), once through the
+// window (the `robossis panel` binary under Xvfb), as a person at the surgical unit would jog the robot.
+
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "robot/rsr_model.h"
+#include "robot/sigma7_model.h"
+#include "src/core/config.h"
+#include "src/core/rt/clock.h"
+#include "src/core/units.h"
+#include "src/panel/local_session_backend.h"
+#include "src/panel/view_model.h"
+#include "src/teleop/teleop_session.h"
+#include "tests/drivers/hal_session.h"
+#include "tests/drivers/stepgen_counts.h"
+#include "tests/panel/panel_run.h"
+
+namespace robossis::panel {
+namespace {
+
+using robossis::testing::HalSession;
+using teleop::OperatingState;
+
+std::filesystem::path StepgenHal() { return DefaultDataDir() / "hal" / "robossis-stepgen.hal"; }
+
+// Polls the follower's status until `done` holds or `timeout_s` of wall-clock time passed; returns the last status.
+template <typename Done>
+teleop::FollowerStatusMessage WaitFor(LocalSessionBackend& backend, double timeout_s, Done done) {
+  teleop::FollowerStatusMessage status;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < until) {
+    if (backend.ReadStatus(status) && done(status)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return status;
+}
+
+TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
+  HalSession hal(StepgenHal());
+  const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
+  const robot::Sigma7Model sigma7 = robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml");
+  const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model, sigma7);
+  JogLimits limits;
+  limits.setpoint = setup.follower.setpoint;
+  const rt::MonotonicClock clock;
+  LocalSessionBackend backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation,
+                              limits, setup.transfer.rates.actuation_rate_hz, clock);
+  backend.Start();
+
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));
+  teleop::FollowerStatusMessage status =
+      WaitFor(backend, 10, [](const auto& s) { return s.state == OperatingState::kReady; });
+  ASSERT_EQ(status.state, OperatingState::kReady) << teleop::ToString(status.state);
+  const Eigen::Vector3d start = PoseOf(status).translation();
+
+  JogRequest jog;
+  jog.axis = JogAxis::kZ;
+  jog.amount = MmToM(2);
+  jog.duration_s = 1;
+  const JogVerdict verdict = backend.StartJog(jog);
+  ASSERT_TRUE(verdict.accepted) << verdict.reason;
+  status = WaitFor(backend, 10, [&](const auto& s) {
+    return std::abs(PoseOf(s).translation().z() - start.z() - MmToM(2)) < MmToM(0.01);
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the eq. 9 move has ended: nothing more moves
+  ASSERT_TRUE(backend.ReadStatus(status));
+  const Eigen::Vector3d moved = PoseOf(status).translation() - start;
+  EXPECT_NEAR(MToMm(moved.z()), 2, 0.02);
+  EXPECT_NEAR(MToMm(moved.head<2>().norm()), 0, 0.02);
+  EXPECT_GT(testing::ExpectStepgenCountsMatchTheCommand(), 200) << "the jog did not reach the drives";
+  EXPECT_EQ(status.setpoints_rejected, 0u);
+
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEStop));
+  status = WaitFor(backend, 5, [](const auto& s) { return s.state == OperatingState::kEStop; });
+  EXPECT_EQ(status.state, OperatingState::kEStop);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // a few HAL servo periods
+  for (int m = 0; m < 6; ++m)
+    EXPECT_FALSE(HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) << "motor " << m;
+  backend.Stop();
+}
+
+TEST(PanelHalTest, TheWindowJogsTheDrives) {
+  HalSession hal(StepgenHal());
+  const auto dir = testing::TestDir("hal_jog");
+  const testing::PanelRun run = testing::RunPanel(dir,
+                                                  "0.2 click home\n"
+                                                  "1.5 set jog.axis z\n"
+                                                  "1.5 set jog.amount 2\n"
+                                                  "1.5 set jog.timing duration\n"
+                                                  "1.5 set jog.duration_s 1\n"
+                                                  "2.0 click jog.go\n"
+                                                  "6.0 quit\n",
+                                                  "--no-slice --no-bone --follower hal");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_FALSE(run.json.is_discarded()) << run.output;
+  EXPECT_EQ(run.json["follower"], "hal");
+  EXPECT_EQ(run.json["state"], "ready") << run.output;
+  const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
+  EXPECT_NEAR(run.json["pose_mm_deg"][2].get<double>(), MToMm(model.geometry().X_FM_home.translation().z()) + 2,
+              0.02);
+  EXPECT_EQ(run.json["setpoints_rejected"].get<int>(), 0);
+  EXPECT_GT(testing::ExpectStepgenCountsMatchTheCommand(), 200) << "the jog did not reach the drives";
+}
+
+}  // namespace
+}  // namespace robossis::panel

@@ -1,0 +1,53 @@
+#pragma once
+// Runs the `robossis panel` binary (ROBOSSIS_BINARY) under Xvfb over a script, as a person would drive it:
+// `xvfb-run -a` starts a private X server and always stops it when the panel exits; `timeout` bounds a hung run.
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace robossis::testing {
+
+struct PanelRun {
+  int exit_code = -1;
+  std::string output;
+  nlohmann::json json;
+};
+
+inline std::filesystem::path TestDir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("robossis_panel_test_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Writes the script and runs the panel over it with --json. stderr is kept apart so stdout parses.
+inline PanelRun RunPanel(const std::filesystem::path& dir, const std::string& script, const std::string& extra = "") {
+  const std::filesystem::path script_file = dir / "script.txt";
+  std::ofstream(script_file) << script;
+  const std::string command = "timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(ROBOSSIS_BINARY) +
+                              " panel --script " + script_file.string() + " --json " + extra + " 2>" +
+                              (dir / "stderr.txt").string();
+  PanelRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (run.exit_code == 0) run.json = nlohmann::json::parse(run.output, nullptr, false);
+  if (run.exit_code != 0) {
+    std::ifstream err(dir / "stderr.txt");
+    run.output += std::string(std::istreambuf_iterator<char>(err), {});
+  }
+  return run;
+}
+
+}  // namespace robossis::testing
