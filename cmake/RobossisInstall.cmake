@@ -18,6 +18,10 @@ foreach(lib IN LISTS ROBOSSIS_INSTALLED_LIBRARIES)
   string(REPLACE "robossis_" "" short ${lib})
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${short})
   target_include_directories(${lib} INTERFACE $<INSTALL_INTERFACE:${ROBOSSIS_INSTALL_INCLUDEDIR}>)
+  # A sanitized build's libraries need the sanitizers' run-time libraries in every program that links them.
+  if(ROBOSSIS_SANITIZE)
+    target_link_options(${lib} INTERFACE $<INSTALL_INTERFACE:-fsanitize=address,undefined>)
+  endif()
 endforeach()
 
 install(TARGETS robossis RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -1,6 +1,10 @@
 #pragma once
 // Runs the `robossis panel` binary (ROBOSSIS_BINARY) under Xvfb over a script, as a person would drive it:
 // `xvfb-run -a` starts a private X server and always stops it when the panel exits; `timeout` bounds a hung run.
+// Under AddressSanitizer the window's process runs without leak detection (its other checks stay on): a library
+// that GLFW and Mesa load for the window and unload at exit leaves 128 bytes that LeakSanitizer can name no module
+// or function of, so no suppression can match them. The panel's session logic (panel_test) and its line images
+// (panel_draw_test) are leak-checked in their own processes.
 
 #include <sys/wait.h>
 
@@ -32,7 +36,8 @@ inline std::filesystem::path TestDir(const std::string& name) {
 inline PanelRun RunPanel(const std::filesystem::path& dir, const std::string& script, const std::string& extra = "") {
   const std::filesystem::path script_file = dir / "script.txt";
   std::ofstream(script_file) << script;
-  const std::string command = "timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(ROBOSSIS_BINARY) +
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " +
+                              std::string(ROBOSSIS_BINARY) +
                               " panel --script " + script_file.string() + " --json " + extra + " 2>" +
                               (dir / "stderr.txt").string();
   PanelRun run;
