@@ -110,9 +110,9 @@ TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses)
   EXPECT_GE(leader["leader_ticks"].get<int>(), 4900);  // 5 s at 1 kHz
   EXPECT_EQ(leader["follower_ticks"], 0);             // each process records its own unit only
   EXPECT_EQ(follower["leader_ticks"], 0);
-  // Over 5 s at 1 kHz. The secured discovery and handshake come first (up to 2 s under the sanitizers: only 6
-  // set-points of a 2 s session arrived once), and on a loaded machine the link's send thread wakes late and skips
-  // to the newest set-point.
+  // Over 5 s at 1 kHz, the secured discovery and handshake first; on a loaded machine the link's send thread wakes
+  // late and skips to the newest set-point. (scripts/test.sh leaves this test to the Release suite: under the
+  // sanitizers only 6-10 set-points arrived in two of three runs, unexplained.)
   EXPECT_GT(follower["setpoints_accepted"].get<int>(), 500);
   PrintFigures("teleop --link dds", follower);
   EXPECT_EQ(follower["link"]["rejected_invalid"], 0);
