@@ -6,16 +6,14 @@
 // or function of, so no suppression can match them. The panel's session logic (panel_test) and its line images
 // (panel_draw_test) are leak-checked in their own processes.
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "tests/support/robossis_cli.h"
 
 namespace robossis::testing {
 
@@ -40,13 +38,10 @@ inline PanelRun RunPanel(const std::filesystem::path& dir, const std::string& sc
                               std::string(ROBOSSIS_BINARY) +
                               " panel --script " + script_file.string() + " --json " + extra + " 2>" +
                               (dir / "stderr.txt").string();
+  const CommandRun shell = RunShell(command);
   PanelRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.exit_code = shell.exit_code;
+  run.output = shell.output;
   if (run.exit_code == 0) run.json = nlohmann::json::parse(run.output, nullptr, false);
   if (run.exit_code != 0) {
     std::ifstream err(dir / "stderr.txt");

@@ -19,10 +19,8 @@ struct CommandRun {
   std::string output;  // stdout, and stderr unless left out
 };
 
-// `robossis <args>` through the shell (so args may quote and redirect), its output and exit code. With
-// with_stderr = false the output is stdout alone (e.g. to parse --json while progress goes to stderr).
-inline CommandRun Robossis(const std::string& args, bool with_stderr = true) {
-  const std::string command = std::string(ROBOSSIS_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+// A shell command line: its stdout and exit code (-1 if it did not exit normally).
+inline CommandRun RunShell(const std::string& command) {
   CommandRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -31,6 +29,12 @@ inline CommandRun Robossis(const std::string& args, bool with_stderr = true) {
   const int status = pclose(pipe);
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
+}
+
+// `robossis <args>` through the shell (so args may quote and redirect), its output and exit code. With
+// with_stderr = false the output is stdout alone (e.g. to parse --json while progress goes to stderr).
+inline CommandRun Robossis(const std::string& args, bool with_stderr = true) {
+  return RunShell(std::string(ROBOSSIS_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 }  // namespace robossis::testing
