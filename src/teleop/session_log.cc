@@ -5,9 +5,9 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
+
+#include "src/core/files.h"
 
 namespace robossis::teleop {
 
@@ -127,9 +127,7 @@ void CheckSameLayout(const StreamSpec& actual, const StreamSpec& expected, const
 }
 
 SessionLog ReadSessionLog(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the session log");
-  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = ReadTextFile(file);
   if (bytes.size() < 12 || std::memcmp(bytes.data(), kMagic, 7) != 0) {
     throw std::runtime_error(file.string() + ": not a robossis session log (bad magic)");
   }

@@ -95,10 +95,21 @@ bool HasTransition(const nlohmann::json& s, const std::string& to, const std::st
   return false;
 }
 
+// Under AddressSanitizer the Bullet follower's 10 kHz tick misses 17-26% of its deadlines even on an idle machine,
+// and the two units' SCHED_FIFO loops then leave the link's receive path too little CPU for the 1 kHz stream: most
+// set-points reach the follower later than the 30 ms freshness bound and are dropped as stale, and the follower
+// holds, as designed (RELIABILITY.md, "Sanitizers in CI"). The sanitized build therefore drives the recorder back end
+// here; the Bullet follower's own code runs sanitized in the in-process tests.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr const char* kTwoProcessFollower = "recorder";
+#else
+constexpr const char* kTwoProcessFollower = "sim";
+#endif
+
 TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses) {
   robossis::testing::ScratchDir dir("robossis_link_units_teleop");
-  std::string args = "teleop --link dds --follower sim --device " + FastHand() + " --method proxy-safe --json "
-                     "--duration-s 5 --out " + (dir.path() / "run").string();
+  std::string args = std::string("teleop --link dds --follower ") + kTwoProcessFollower + " --device " + FastHand() +
+                     " --method proxy-safe --json --duration-s 5 --out " + (dir.path() / "run").string();
   for (const std::string& a : Common()) args += " " + a;
   const auto run = robossis::testing::Robossis(args, false);
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -111,8 +122,7 @@ TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses)
   EXPECT_EQ(leader["follower_ticks"], 0);             // each process records its own unit only
   EXPECT_EQ(follower["leader_ticks"], 0);
   // Over 5 s at 1 kHz, the secured discovery and handshake first; on a loaded machine the link's send thread wakes
-  // late and skips to the newest set-point. (scripts/test.sh leaves this test to the Release suite: under the
-  // sanitizers only 6-10 set-points arrived in two of three runs, unexplained.)
+  // late and skips to the newest set-point.
   EXPECT_GT(follower["setpoints_accepted"].get<int>(), 500);
   PrintFigures("teleop --link dds", follower);
   EXPECT_EQ(follower["link"]["rejected_invalid"], 0);
