@@ -1,6 +1,5 @@
 #include "src/panel/dds_follower_backend.h"
 
-#include <cmath>
 
 #include "src/link/dds_leader_link.h"
 
@@ -44,12 +43,7 @@ bool DdsFollowerBackend::ReadHandWrench(HandWrench& wrench) noexcept {
 bool DdsFollowerBackend::ReadCommandedPose(Eigen::Isometry3d&) noexcept { return false; }
 
 bool DdsFollowerBackend::SendCommand(teleop::StateCommand command) noexcept {
-  teleop::StateCommandMessage message;
-  message.sequence = ++command_sequence_;
-  message.stamp_ns = static_cast<std::int64_t>(std::llround(clock_.NowS() * 1e9));
-  message.command = command;
-  message.source = 2;  // panel
-  return link_->SendCommand(message);
+  return link_->SendCommand(PanelStateCommand(command, ++command_sequence_, clock_.NowS()));
 }
 
 JogVerdict DdsFollowerBackend::PreviewJog(const JogRequest&) {

@@ -16,30 +16,24 @@ namespace {
 
 using teleop::OperatingState;
 
-// The leader's set-point rate: the paper's 1 kHz link (the follower ticks at 10 kHz between set-points). The
-// panel's leader side (jog player or leader unit) ticks at this rate.
-constexpr double kSetPointRateHz = 1000;
-
-// [assumed] as in `robossis teleop`: the actuation outranks the haptic loop (a late step is a jerk).
-constexpr int kFollowerFifoPriority = 81;
-constexpr int kLeaderFifoPriority = 80;
-
 }  // namespace
 
 LocalSessionBackend::LocalSessionBackend(const robot::RsrModel& model, std::unique_ptr<robot::Follower> back_end,
                                          const teleop::FollowerConfig& follower_config,
                                          const actuation::ActuationConfig& actuation_config,
-                                         const JogLimits& jog_limits, double tick_rate_hz, const rt::Clock& clock)
+                                         const JogLimits& jog_limits, const transfer::TransferRates& rates,
+                                         const rt::Clock& clock)
     : model_(model),
       jog_limits_(jog_limits),
-      period_s_(1.0 / tick_rate_hz),
-      ticks_per_setpoint_(std::max(1, static_cast<int>(std::lround(tick_rate_hz / kSetPointRateHz)))),
+      period_s_(1.0 / rates.actuation_rate_hz),
+      setpoint_period_s_(1.0 / rates.transfer_rate_hz),
+      ticks_per_setpoint_(std::max(1, rates.upsampling_ratio())),
       clock_(clock),
       follower_config_(follower_config),
       actuation_config_(actuation_config),
       back_end_(std::move(back_end)),
       link_(clock),
-      player_(link_, clock, 1.0 / kSetPointRateHz) {
+      player_(link_, clock, setpoint_period_s_) {
   if (!back_end_) throw std::invalid_argument("panel session: no follower back end");
   back_end_->Disable();  // the follower starts DISABLED, drives holding
   unit_ = std::make_unique<teleop::FollowerUnit>(model_, actuation_config_, follower_config_, *back_end_, link_,
@@ -56,7 +50,7 @@ LocalSessionBackend::~LocalSessionBackend() {
 
 void LocalSessionBackend::AttachHapticLeader(HapticLeaderSetup setup) {
   if (setup.sigma7 == nullptr) throw std::invalid_argument("haptic leader: no sigma.7 model");
-  setup.leader.rate_hz = kSetPointRateHz;  // the panel's leader side runs at the link's rate
+  setup.leader.rate_hz = 1.0 / setpoint_period_s_;  // the panel's leader side runs at the link's rate
   setup.leader.Validate();
   haptics::DeviceScriptOptions script = setup.leader.sim_script;
   script.replay_scale = setup.transfer.mapping.translation_scale;  // as `robossis teleop` places a replay
@@ -73,16 +67,16 @@ void LocalSessionBackend::AttachHapticLeader(HapticLeaderSetup setup) {
 std::vector<std::string> LocalSessionBackend::Start() {
   if (follower_loop_) return {};
   const auto* clock = dynamic_cast<const rt::MonotonicClock*>(&clock_);
-  if (clock == nullptr) throw std::logic_error("simulated follower: the loops need the MonotonicClock");
+  if (clock == nullptr) throw std::logic_error("panel session: the loops need the MonotonicClock");
   threaded_ = true;
   rt::LoopOptions follower;
   follower.name = "panel follower unit";
   follower.period_ns = std::llround(period_s_ * 1e9);
-  follower.fifo_priority = kFollowerFifoPriority;
+  follower.fifo_priority = rt::kActuationLoopFifoPriority;
   rt::LoopOptions leader;
   leader.name = "panel leader side";
-  leader.period_ns = std::llround(1e9 / kSetPointRateHz);
-  leader.fifo_priority = kLeaderFifoPriority;
+  leader.period_ns = std::llround(setpoint_period_s_ * 1e9);
+  leader.fifo_priority = rt::kHapticLoopFifoPriority;
   follower_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, follower_task_, follower);
   leader_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, leader_task_, leader);
   const std::int64_t start_ns = std::llround(clock->NowS() * 1e9) + leader.period_ns;  // on the clock
@@ -126,12 +120,7 @@ bool LocalSessionBackend::ReadCommandedPose(Eigen::Isometry3d& X_FM) noexcept {
 }
 
 bool LocalSessionBackend::SendCommand(teleop::StateCommand command) noexcept {
-  teleop::StateCommandMessage message;
-  message.sequence = ++command_sequence_;
-  message.stamp_ns = static_cast<std::int64_t>(std::llround(clock_.NowS() * 1e9));
-  message.command = command;
-  message.source = 2;  // panel
-  return link_.operator_commands().Send(message);
+  return link_.operator_commands().Send(PanelStateCommand(command, ++command_sequence_, clock_.NowS()));
 }
 
 JogVerdict LocalSessionBackend::PreviewJog(const JogRequest& request) {

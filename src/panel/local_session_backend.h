@@ -69,10 +69,11 @@ class LocalSessionBackend final : public PanelBackend {
  public:
   // `clock` is the shared clock of the link, the follower unit and the jog player: a MonotonicClock for the loop
   // thread, a SimulatedClock for a test that advances it and calls Step(). `back_end` is disabled here (the follower
-  // unit starts DISABLED). Keeps references to model and clock.
+  // unit starts DISABLED). The follower unit ticks at rates.actuation_rate_hz, the leader side (jog player or leader
+  // unit) at rates.transfer_rate_hz, as in `robossis teleop`. Keeps references to model and clock.
   LocalSessionBackend(const robot::RsrModel& model, std::unique_ptr<robot::Follower> back_end,
                       const teleop::FollowerConfig& follower_config, const actuation::ActuationConfig& actuation_config,
-                      const JogLimits& jog_limits, double tick_rate_hz, const rt::Clock& clock);
+                      const JogLimits& jog_limits, const transfer::TransferRates& rates, const rt::Clock& clock);
   ~LocalSessionBackend() override;
 
   // Gives the panel a haptic leader: opens the device (haptics::MakeDevice) and enables its forces. Call before
@@ -147,7 +148,8 @@ class LocalSessionBackend final : public PanelBackend {
 
   const robot::RsrModel& model_;
   const JogLimits jog_limits_;
-  const double period_s_;
+  const double period_s_;           // the follower unit's tick
+  const double setpoint_period_s_;  // the leader side's tick
   const int ticks_per_setpoint_;
   const rt::Clock& clock_;
   const teleop::FollowerConfig follower_config_;        // the follower unit keeps references to its arguments

@@ -8,6 +8,7 @@
 // never wait for a loop; commands are queued to the loop through lock-free single-producer structures.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -43,6 +44,18 @@ struct HapticModeRequest {
   double max_linear_speed_m_s = 0;
   double max_angular_speed_rad_s = 0;
 };
+
+// A state command as the panel sends it: numbered by its backend, stamped on the backend's clock, marked as the
+// panel's (for the follower's log).
+inline teleop::StateCommandMessage PanelStateCommand(teleop::StateCommand command, std::uint64_t sequence,
+                                                     double now_s) {
+  teleop::StateCommandMessage message;
+  message.sequence = sequence;
+  message.stamp_ns = static_cast<std::int64_t>(std::llround(now_s * 1e9));
+  message.command = command;
+  message.source = 2;  // panel
+  return message;
+}
 
 class PanelBackend {
  public:

@@ -197,13 +197,14 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     rt::LoopOptions o;
     o.name = "leader";
     o.period_ns = std::llround(1e9 / request.rate_hz);
+    o.fifo_priority = rt::kHapticLoopFifoPriority;
     tasks.push_back({leader->unit.get(), o});
   }
   if (follower) {
     rt::LoopOptions o;
     o.name = "follower";
     o.period_ns = std::llround(1e9 / follower_rate_hz);
-    o.fifo_priority = 81;  // the actuation outranks the haptic loop [assumed]: a late step is a jerk
+    o.fifo_priority = rt::kActuationLoopFifoPriority;
     tasks.push_back({follower->unit.get(), o});
   }
 

@@ -43,7 +43,7 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
   const rt::MonotonicClock clock;
   const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), models.rsr, models.hc);
   panel::LocalSessionBackend backend(models.rsr, teleop::MakeFollowerBackEnd("sim", setup, 0), setup.follower,
-                                     setup.actuation, panel::JogLimits{}, setup.transfer.rates.actuation_rate_hz,
+                                     setup.actuation, panel::JogLimits{}, setup.transfer.rates,
                                      clock);
   if (loops) backend.Start();  // without the loops the follower stands still: the panel's own cost alone
   backend.SendCommand(teleop::StateCommand::kHome);

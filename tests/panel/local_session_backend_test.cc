@@ -41,7 +41,7 @@ class LocalSessionBackendTest : public ::testing::Test {
         sigma7_(robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml")),
         setup_(teleop::TeleopSetup::Load(DefaultDataDir(), model_, sigma7_)),
         backend_(model_, teleop::MakeFollowerBackEnd("sim", setup_, 0), setup_.follower, setup_.actuation,
-                 Limits(setup_.follower), 10000, clock_) {}
+                 Limits(setup_.follower), setup_.transfer.rates, clock_) {}
 
   void Run(double seconds) {
     const int ticks = static_cast<int>(seconds * 10000 + 0.5);

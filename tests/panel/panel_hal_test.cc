@@ -49,7 +49,7 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   limits.setpoint = setup.follower.setpoint;
   const rt::MonotonicClock clock;
   LocalSessionBackend backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation,
-                              limits, setup.transfer.rates.actuation_rate_hz, clock);
+                              limits, setup.transfer.rates, clock);
   backend.Start();
 
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));

@@ -116,20 +116,20 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
       options->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
       backend = std::make_unique<panel::DdsFollowerBackend>(options->link_options);
     } else {
-      auto simulated = std::make_unique<panel::LocalSessionBackend>(
+      auto local = std::make_unique<panel::LocalSessionBackend>(
           models.rsr, teleop::MakeFollowerBackEnd(options->follower, setup, 0), setup.follower, setup.actuation,
-          limits, setup.transfer.rates.actuation_rate_hz, clock);
+          limits, setup.transfer.rates, clock);
       try {
-        simulated->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
+        local->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
                                        nullptr});
       } catch (const std::exception& e) {
         throw std::runtime_error(std::string("--device: ") + e.what());
       }
-      for (const std::string& warning : simulated->Start()) std::cerr << "robossis: warning: " << warning << "\n";
-      backend = std::move(simulated);
+      for (const std::string& warning : local->Start()) std::cerr << "robossis: warning: " << warning << "\n";
+      backend = std::move(local);
     }
     const PanelRunResult result = RunPanelWindow(*backend, models, window);
-    if (auto* simulated = dynamic_cast<panel::LocalSessionBackend*>(backend.get())) simulated->Stop();
+    if (auto* local = dynamic_cast<panel::LocalSessionBackend*>(backend.get())) local->Stop();
     if (!options->json) return;
     teleop::FollowerStatusMessage status;
     backend->ReadStatus(status);

@@ -29,11 +29,16 @@ class PeriodicTask {
   virtual void Tick(std::int64_t now_ns) noexcept = 0;
 };
 
+// SCHED_FIFO priorities of the runtime's loops, where permitted [assumed]: below the kernel's IRQ threads (50) is
+// wrong for a servo loop; 80 leaves room above for a watchdog. The actuation outranks the haptic loop: a late
+// stepper command is a jerk of the robot, a late haptic tick a softer wall for one tick.
+inline constexpr int kHapticLoopFifoPriority = 80;
+inline constexpr int kActuationLoopFifoPriority = 81;
+
 struct LoopOptions {
   std::string name = "loop";
   std::int64_t period_ns = 1'000'000;
-  int fifo_priority = 80;      // SCHED_FIFO priority where permitted [assumed]: below the kernel's IRQ threads (50)
-                               // is wrong for a servo loop; 80 leaves room above for a watchdog
+  int fifo_priority = kHapticLoopFifoPriority;
   bool try_realtime = true;    // attempt SCHED_FIFO
 };
 
