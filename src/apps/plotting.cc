@@ -1,12 +1,10 @@
 #include "src/apps/plotting.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
-extern char** environ;
+#include "src/core/child_process.h"
 
 namespace robossis::apps {
 
@@ -23,17 +21,15 @@ PlotResult RunPlotScript(const std::string& script, const std::vector<std::strin
   }
   const std::filesystem::path path = dir / script;
   if (!std::filesystem::exists(path)) return {false, "plot script " + path.string() + " not found"};
-  std::vector<std::string> argv_strings = {python, path.string()};
-  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& s : argv_strings) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
+  std::vector<std::string> argv = {path.string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::optional<ChildProcess> plot;
+  try {
+    plot.emplace(python, argv);
+  } catch (const std::runtime_error&) {
     return {false, "cannot start " + python + " (install python3-matplotlib: scripts/install-deps.sh)"};
   }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  if (const ChildExit exit = plot->Wait(); !exit.exited || exit.code != 0) {
     return {false, python + " " + script + " failed (is python3-matplotlib installed?)"};
   }
   return {true, ""};

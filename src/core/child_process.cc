@@ -21,7 +21,7 @@ std::string ChildExit::Describe() const {
 }
 
 ChildProcess::ChildProcess(const std::filesystem::path& program, const std::vector<std::string>& args,
-                           const std::filesystem::path& output) {
+                           const std::filesystem::path& output, const std::filesystem::path& working_dir) {
   std::vector<std::string> full{program.string()};
   full.insert(full.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -38,6 +38,7 @@ ChildProcess::ChildProcess(const std::filesystem::path& program, const std::vect
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
   }
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  if (!working_dir.empty()) posix_spawn_file_actions_addchdir_np(&actions, working_dir.c_str());
   const int rc = posix_spawnp(&pid_, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {

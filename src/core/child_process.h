@@ -23,10 +23,11 @@ struct ChildExit {
 
 class ChildProcess {
  public:
-  // Starts `program` (a path, or a name looked up in PATH) with `args` (argv[1..]). Its stdout and stderr go to
-  // `output` (created or truncated; empty: inherited). Throws std::runtime_error naming the program.
+  // Starts `program` (a path, or a name looked up in PATH) with `args` (argv[1..]) in `working_dir` (empty: this
+  // process's). Its stdin is /dev/null; its stdout and stderr go to `output` (created or truncated; empty:
+  // inherited). Throws std::runtime_error naming the program.
   ChildProcess(const std::filesystem::path& program, const std::vector<std::string>& args,
-               const std::filesystem::path& output = {});
+               const std::filesystem::path& output = {}, const std::filesystem::path& working_dir = {});
   ~ChildProcess();
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&&) = delete;

@@ -1,19 +1,13 @@
 #include "src/link/keys.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <ctime>
+#include <optional>
 #include <stdexcept>
 
+#include "src/core/child_process.h"
 #include "src/core/files.h"
 #include "src/link/dds_entities.h"
-
-extern char** environ;
 
 namespace robossis::link {
 
@@ -24,24 +18,14 @@ constexpr Role kRoles[] = {Role::kLeader, Role::kFollower, Role::kPanel};
 // Runs `openssl args...` in `dir`, stdout and stderr to `log`. Throws naming the step on failure.
 void RunOpenssl(const std::vector<std::string>& args, const std::filesystem::path& dir,
                 const std::filesystem::path& log, const std::string& step) {
-  std::vector<std::string> full = {"openssl"};
-  full.insert(full.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : full) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, "openssl", &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("keys init: cannot run openssl (install the openssl package)");
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  std::optional<ChildProcess> openssl;
+  try {
+    openssl.emplace("openssl", args, log, dir);
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error("keys init: cannot run openssl (install the openssl package)");
+  }
+  const ChildExit exit = openssl->Wait();
+  if (!exit.exited || exit.code != 0) {
     std::string detail = ReadTextFile(log);
     while (!detail.empty() && (detail.back() == '\n' || detail.back() == '\r')) detail.pop_back();
     const auto nl = detail.rfind('\n');
