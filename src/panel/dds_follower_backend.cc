@@ -1,6 +1,5 @@
 #include "src/panel/dds_follower_backend.h"
 
-
 #include "src/link/dds_leader_link.h"
 
 namespace robossis::panel {

@@ -121,7 +121,7 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
           limits, setup.transfer.rates, clock);
       try {
         local->AttachHapticLeader({&models.hc, setup.haptics, setup.transfer, setup.leader, options->device,
-                                       nullptr});
+                                   nullptr});
       } catch (const std::exception& e) {
         throw std::runtime_error(std::string("--device: ") + e.what());
       }
