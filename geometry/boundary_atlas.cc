@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "src/core/files.h"
+#include "src/core/json_integer.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
 
@@ -60,7 +61,7 @@ std::array<GridAxis, 3> GridFromJson(const nlohmann::json& j, double scale, cons
   for (int a = 0; a < 3; ++a) {
     g[a].min = j[a].at("min").get<double>() / scale;
     g[a].step = j[a].at("step").get<double>() / scale;
-    g[a].count = j[a].at("count").get<int>();
+    g[a].count = JsonInteger<int>(j[a].at("count"), where + "[" + std::to_string(a) + "].count");
   }
   return g;
 }
@@ -299,7 +300,7 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
   const std::string where = manifest_file.string();
   try {
     const nlohmann::json m = nlohmann::json::parse(ReadTextFile(manifest_file));
-    if (m.at("format").get<std::string>() != kFormat || m.at("version").get<int>() != kVersion) {
+    if (m.at("format").get<std::string>() != kFormat || JsonInteger<int>(m.at("version"), "version") != kVersion) {
       throw std::runtime_error("format/version is not " + std::string(kFormat) + " " + std::to_string(kVersion) +
                                " (an atlas of an older version: rebuild it with `robossis workspace atlas`)");
     }
@@ -320,13 +321,15 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
           throw std::runtime_error("slice file '" + file + "' is not a relative path inside the atlas");
         }
         const std::string bytes = ReadTextFile(dir / file);
-        if (bytes.size() != e.at("bytes").get<std::size_t>() || Hex(Fnv1a64(bytes)) != e.at("fnv1a64").get<std::string>()) {
+        if (bytes.size() != JsonInteger<std::size_t>(e.at("bytes"), "slice '" + file + "': bytes") || Hex(Fnv1a64(bytes)) != e.at("fnv1a64").get<std::string>()) {
           throw std::runtime_error("slice file '" + file + "' does not match its size/hash (corrupt or partial atlas)");
         }
         AtlasSlice a;
         a.kind = kind;
         const auto node = e.at("node");
-        a.node = Eigen::Vector3i(node.at(0).get<int>(), node.at(1).get<int>(), node.at(2).get<int>());
+        const std::string node_name = "slice '" + file + "': node";
+        a.node = Eigen::Vector3i(JsonInteger<int>(node.at(0), node_name), JsonInteger<int>(node.at(1), node_name),
+                                 JsonInteger<int>(node.at(2), node_name));
         for (int k = 0; k < 3; ++k) {
           if (a.node[k] < 0 || a.node[k] >= g[k].count) throw std::runtime_error("slice '" + file + "': node outside the grid");
         }

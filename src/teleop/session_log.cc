@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "src/core/files.h"
+#include "src/core/json_integer.h"
 
 namespace robossis::teleop {
 
@@ -148,13 +149,14 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
     log.meta = header.at("meta");
     for (const auto& s : header.at("streams")) {
       StreamSpec spec;
-      spec.id = s.at("id").get<std::uint8_t>();
+      spec.id = JsonInteger<std::uint8_t>(s.at("id"), "stream id");
       spec.name = s.at("name").get<std::string>();
-      spec.record_size = s.at("record_size").get<std::size_t>();
+      spec.record_size = JsonInteger<std::size_t>(s.at("record_size"), "record_size");
       for (const auto& f : s.at("fields")) {
         spec.fields.push_back(FieldSpec{f.at("name").get<std::string>(),
                                         ParseType(f.at("type").get<std::string>(), file.string()),
-                                        f.at("offset").get<std::size_t>(), f.at("count").get<int>(),
+                                        JsonInteger<std::size_t>(f.at("offset"), "offset"),
+                                        JsonInteger<int>(f.at("count"), "count"),
                                         f.at("unit").get<std::string>()});
       }
       if (spec.id != log.streams.size() || spec.record_size == 0) {

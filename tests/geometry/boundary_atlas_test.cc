@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "src/core/files.h"
 #include "src/core/pose.h"
@@ -115,6 +116,20 @@ TEST_F(AtlasTest, CorruptManifestIsRejected) {
   const fs::path d = Copy("badjson");
   WriteFileAtomically(d / "manifest.json", "{\"format\": \"robossis-boundary-atlas\", \"version\": 1, ");
   EXPECT_NE(LoadError(d).find("malformed"), std::string::npos);
+  fs::remove_all(d);
+}
+
+// A manifest number that is no int (found by fuzz_atlas: converting 2.2e126 to int is undefined behaviour).
+TEST_F(AtlasTest, ManifestNumberOutOfIntRangeIsRejectedNamingTheField) {
+  const fs::path d = Copy("hugeversion");
+  nlohmann::json m = nlohmann::json::parse(ReadTextFile(d / "manifest.json"));
+  m["version"] = 2.2e126;
+  WriteFileAtomically(d / "manifest.json", m.dump());
+  EXPECT_NE(LoadError(d).find("version: expected an integer"), std::string::npos) << LoadError(d);
+  m["version"] = nlohmann::json::parse(ReadTextFile(*dir_ / "manifest.json"))["version"];
+  m["dexterous_slices"][0]["node"][1] = 1e300;
+  WriteFileAtomically(d / "manifest.json", m.dump());
+  EXPECT_NE(LoadError(d).find("node: expected an integer"), std::string::npos) << LoadError(d);
   fs::remove_all(d);
 }
 

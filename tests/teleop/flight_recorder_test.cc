@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "src/core/files.h"
 #include "src/core/rt/spsc_queue.h"
 #include "src/teleop/flight_recorder.h"
 
@@ -160,6 +161,26 @@ TEST(FlightRecorderTest, AKilledWriterLeavesAReadableLog) {
   EXPECT_LE(back.size(), pushed->load());
   for (std::size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i].tick, i);  // intact and in order
   munmap(pushed, sizeof(std::atomic<std::uint64_t>));
+  std::filesystem::remove(file);
+}
+
+// A header the program did not write: a number that is no integer of the field's type is an error naming the field
+// (converting 1e300 to a size is undefined behaviour; a libFuzzer run found the same in the atlas manifest).
+TEST(FlightRecorderTest, AHeaderNumberOutOfItsTypesRangeIsRefusedNamingTheField) {
+  const auto file = TempLog("robossis_fr_huge_record_size.rlog");
+  const std::string header =
+      R"({"meta": {}, "streams": [{"id": 0, "name": "leader", "record_size": 1e300, "fields": []}]})";
+  const auto length = static_cast<std::uint32_t>(header.size());
+  std::string bytes = "RBSSLOG1";
+  bytes.append(reinterpret_cast<const char*>(&length), sizeof length);
+  bytes += header;
+  WriteFileAtomically(file, bytes);
+  try {
+    ReadSessionLog(file);
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("record_size: expected an integer"), std::string::npos) << e.what();
+  }
   std::filesystem::remove(file);
 }
 
