@@ -22,7 +22,10 @@ WallLawParams ReadWall(const ConfigNode& node) {
 }  // namespace
 
 HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+HapticsConfig HapticsConfig::FromConfig(const ConfigNode& root) {
   HapticsConfig c;
   c.wall = ReadWall(root.Child("wall"));
   c.device_safe_wall = ReadWall(root.Child("device_safe"));
@@ -76,7 +79,7 @@ HapticsConfig HapticsConfig::FromYaml(const std::filesystem::path& file) {
   c.hardware_default_method = root.String("hardware_default_method");
   const std::vector<std::string> known = KnownMethods();
   if (std::find(known.begin(), known.end(), c.hardware_default_method) == known.end()) {
-    throw std::runtime_error(file.string() + ": hardware_default_method: expected a rendering method name, got '" +
+    throw std::runtime_error(root.file() + ": hardware_default_method: expected a rendering method name, got '" +
                              c.hardware_default_method + "'");
   }
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error

@@ -13,6 +13,10 @@
 #include "haptics/rendering/proxy_renderer.h"
 #include "haptics/rendering/wall_law.h"
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::haptics {
 
 struct HapticsConfig {
@@ -35,6 +39,8 @@ struct HapticsConfig {
 
   // Throws std::runtime_error naming the file and key.
   static HapticsConfig FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static HapticsConfig FromConfig(const ConfigNode& root);
 };
 
 }  // namespace robossis::haptics

@@ -44,7 +44,10 @@ RsrModel::RsrModel(const RsrGeometry& geometry) : geometry_(geometry) {
 }
 
 RsrModel RsrModel::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+RsrModel RsrModel::FromConfig(const ConfigNode& root) {
   const ConfigNode geo = root.Child("geometry");
   const ConfigNode home = root.Child("home_pose");
   const ConfigNode lim = root.Child("limits");
@@ -78,7 +81,7 @@ RsrModel RsrModel::FromYaml(const std::filesystem::path& file) {
   try {
     return RsrModel(g);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
 }
 

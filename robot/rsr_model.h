@@ -13,6 +13,10 @@
 
 #include "src/core/pose.h"
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::robot {
 
 inline constexpr int kNumArms = 3;
@@ -41,6 +45,8 @@ class RsrModel {
 
   // Loads `rsr.yaml` (see data/config/rsr.yaml); throws std::runtime_error naming the file and key.
   static RsrModel FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static RsrModel FromConfig(const ConfigNode& root);
   // The default configuration: <data dir>/config/rsr.yaml.
   static RsrModel Default();
 

@@ -38,7 +38,10 @@ Sigma7Model::Sigma7Model(const Sigma7Geometry& g) : geometry_(g) {
 }
 
 Sigma7Model Sigma7Model::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+Sigma7Model Sigma7Model::FromConfig(const ConfigNode& root) {
   const ConfigNode delta = root.Child("delta");
   const ConfigNode wrist = root.Child("wrist");
   const ConfigNode device = root.Child("device");
@@ -67,7 +70,7 @@ Sigma7Model Sigma7Model::FromYaml(const std::filesystem::path& file) {
   try {
     return Sigma7Model(g);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
 }
 

@@ -13,6 +13,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::robot {
 
 inline constexpr int kNumDeltaChains = 3;
@@ -50,6 +54,8 @@ class Sigma7Model {
  public:
   explicit Sigma7Model(const Sigma7Geometry& geometry);  // validates; throws std::invalid_argument
   static Sigma7Model FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static Sigma7Model FromConfig(const ConfigNode& root);
   static Sigma7Model Default();  // <data dir>/config/sigma7.yaml
 
   const Sigma7Geometry& geometry() const { return geometry_; }

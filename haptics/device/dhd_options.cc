@@ -27,7 +27,10 @@ int ParseInt(const std::string& spec, std::string_view key, std::string_view val
 }  // namespace
 
 DhdOptions DhdOptionsFromYaml(const std::filesystem::path& file, DhdOptions defaults) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return DhdOptionsFromConfig(ConfigNode::Load(file), defaults);
+}
+
+DhdOptions DhdOptionsFromConfig(const ConfigNode& root, DhdOptions defaults) {
   defaults.velocity_window_ms =
       static_cast<int>(root.Child("velocity").NumberInRange("window_ms", 1, kMaxVelocityWindowMs));
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error

@@ -13,6 +13,10 @@
 
 #include "haptics/device/haptic_device.h"
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::haptics {
 
 struct DhdOptions {
@@ -29,6 +33,8 @@ struct DhdOptions {
 // Reads the [assumed] values of data/config/dhd.yaml into `defaults`' fields. Throws std::runtime_error naming the
 // file and the key.
 DhdOptions DhdOptionsFromYaml(const std::filesystem::path& file, DhdOptions defaults = {});
+// The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+DhdOptions DhdOptionsFromConfig(const ConfigNode& root, DhdOptions defaults = {});
 
 // Parses "dhd" or "dhd:key=value,key=value" over `defaults`. Throws std::invalid_argument naming the spec, the key
 // and what was expected.

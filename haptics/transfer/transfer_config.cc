@@ -60,7 +60,10 @@ void TransferConfig::Validate() const {
 }
 
 TransferConfig TransferConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+TransferConfig TransferConfig::FromConfig(const ConfigNode& root) {
   TransferConfig c;
   const ConfigNode rates = root.Child("rates");
   c.rates.transfer_rate_hz = rates.PositiveNumber("transfer_rate_hz");
@@ -86,7 +89,7 @@ TransferConfig TransferConfig::FromYaml(const std::filesystem::path& file) {
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;

@@ -6,6 +6,10 @@
 
 #include <Eigen/Geometry>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::transfer {
 
 // Tick rates. The paper samples the HC at 1 kHz (USB) and drives the steppers at 10 kHz (§V).
@@ -69,6 +73,8 @@ struct TransferConfig {
   void Validate() const;
   // Loads transfer.yaml; throws std::runtime_error naming the file and key.
   static TransferConfig FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static TransferConfig FromConfig(const ConfigNode& root);
 };
 
 inline constexpr int kMaxMovingAverageWindow = 1024;

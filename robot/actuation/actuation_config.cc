@@ -37,7 +37,10 @@ void ActuationConfig::Validate() const {
 }
 
 ActuationConfig ActuationConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+ActuationConfig ActuationConfig::FromConfig(const ConfigNode& root) {
   ActuationConfig c;
   c.actuation_rate_hz = root.PositiveNumber("actuation_rate_hz");
   c.ik_correction_gain_per_s = root.NumberInRange("ik_correction_gain_per_s", 0.0, 1e4);
@@ -56,7 +59,7 @@ ActuationConfig ActuationConfig::FromYaml(const std::filesystem::path& file) {
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;

@@ -6,6 +6,10 @@
 #include <array>
 #include <filesystem>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::actuation {
 
 inline constexpr int kNumMotors = 6;  // eq. 13 order: theta_1..3 (rotary), d_1..3 (linear)
@@ -26,6 +30,8 @@ struct ActuationConfig {
 
   void Validate() const;  // throws std::invalid_argument naming the field
   static ActuationConfig FromYaml(const std::filesystem::path& file);  // throws std::runtime_error
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static ActuationConfig FromConfig(const ConfigNode& root);
 };
 
 }  // namespace robossis::actuation

@@ -55,7 +55,10 @@ void HalConfig::Validate() const {
 }
 
 HalConfig HalConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+HalConfig HalConfig::FromConfig(const ConfigNode& root) {
   HalConfig c;
   c.component_name = root.String("component_name");
   const ConfigNode threads = root.Child("threads");
@@ -77,7 +80,7 @@ HalConfig HalConfig::FromYaml(const std::filesystem::path& file) {
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   return c;
 }

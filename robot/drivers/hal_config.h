@@ -7,6 +7,10 @@
 #include <filesystem>
 #include <string>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::drivers {
 
 // Step/direction timing a driver needs (its datasheet's minimums), in ns, as stepgen(9) and hostmot2(9) take them.
@@ -31,6 +35,8 @@ struct HalConfig {
   double servo_period_s() const { return servo_period_ns * 1e-9; }
   void Validate() const;  // throws std::invalid_argument naming the field
   static HalConfig FromYaml(const std::filesystem::path& file);  // throws std::runtime_error naming file and key
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static HalConfig FromConfig(const ConfigNode& root);
 };
 
 }  // namespace robossis::drivers

@@ -16,9 +16,12 @@ Eigen::Vector3d Vec3(const ConfigNode& node, const std::string& key, double scal
 }  // namespace
 
 SimConfig LoadSimConfig(const std::filesystem::path& file, const std::filesystem::path& data_dir) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return LoadSimConfig(ConfigNode::Load(file), data_dir);
+}
+
+SimConfig LoadSimConfig(const ConfigNode& root, const std::filesystem::path& data_dir) {
   SimConfig c;
-  c.source = file.string();
+  c.source = root.file();
 
   const ConfigNode ph = root.Child("physics");
   c.physics.step_hz = ph.NumberInRange("step_hz", 100, 100000);

@@ -8,6 +8,10 @@
 
 #include <Eigen/Core>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::sim {
 
 enum class DriveMode { kPosition, kVelocity };
@@ -95,5 +99,7 @@ struct SimConfig {
 // Loads and validates sim.yaml; relative mesh paths are resolved against data_dir. Throws std::runtime_error
 // naming the file, the key and what was expected.
 SimConfig LoadSimConfig(const std::filesystem::path& file, const std::filesystem::path& data_dir);
+// The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+SimConfig LoadSimConfig(const ConfigNode& root, const std::filesystem::path& data_dir);
 
 }  // namespace robossis::sim

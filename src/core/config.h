@@ -31,6 +31,10 @@ class ConfigNode {
   static ConfigNode Load(const std::filesystem::path& file);
   ConfigNode(YAML::Node node, std::string file, std::string key_path);
 
+  // The same document with an empty log of read keys, for a second loader of one parse: RejectUnreadKeys() then
+  // judges only what that loader asked for, as if it had loaded the file itself.
+  ConfigNode ForAnotherLoader() const { return ConfigNode(node_, file_, key_path_); }
+
   // Call once on the root after a loader has read everything: throws naming the file, the first key no loader
   // asked for and the nearest key that is valid at that place. Mappings read whole (Child) are checked inside.
   void RejectUnreadKeys() const;

@@ -16,7 +16,10 @@ const char* ToString(Role role) {
 }
 
 LinkTuning LinkTuning::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+LinkTuning LinkTuning::FromConfig(const ConfigNode& root) {
   LinkTuning t;
   const ConfigNode sp = root.Child("setpoint");
   t.setpoint_max_age_s = sp.PositiveNumber("max_age_s");

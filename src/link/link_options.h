@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::link {
 
 // The three kinds of participant that hold credentials (`robossis keys init` makes one identity for each).
@@ -28,6 +32,8 @@ struct LinkTuning {
   double status_state_period_s = 0.100;      // operating_state is also re-sent at this period (its counters move)
 
   static LinkTuning FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static LinkTuning FromConfig(const ConfigNode& root);
 };
 
 struct LinkOptions {

@@ -5,7 +5,10 @@
 namespace robossis::panel {
 
 PanelConfig PanelConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+PanelConfig PanelConfig::FromConfig(const ConfigNode& root) {
   PanelConfig config;
   const ConfigNode window = root.Child("window");
   config.window_width_px = static_cast<int>(window.NumberInRange("width_px", 320, 7680));

@@ -3,6 +3,10 @@
 
 #include <filesystem>
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::panel {
 
 struct PanelConfig {
@@ -14,6 +18,8 @@ struct PanelConfig {
 
   // Throws std::runtime_error naming the file and key.
   static PanelConfig FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static PanelConfig FromConfig(const ConfigNode& root);
 };
 
 }  // namespace robossis::panel

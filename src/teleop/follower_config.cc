@@ -35,7 +35,10 @@ void FollowerConfig::Validate() const {
 }
 
 FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const transfer::SpeedCaps& caps) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file), caps);
+}
+
+FollowerConfig FollowerConfig::FromConfig(const ConfigNode& root, const transfer::SpeedCaps& caps) {
   FollowerConfig c;
   const ConfigNode sp = root.Child("setpoint");
   c.setpoint.caps = caps;
@@ -62,7 +65,7 @@ FollowerConfig FollowerConfig::FromYaml(const std::filesystem::path& file, const
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   return c;
 }

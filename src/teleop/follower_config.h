@@ -10,6 +10,10 @@
 #include "robot/feasible_motion.h"
 #include "src/teleop/setpoint_validator.h"
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::teleop {
 
 struct FollowerWatchdogConfig {
@@ -32,6 +36,8 @@ struct FollowerConfig {
   void Validate() const;
   // Loads follower.yaml; `caps` are the transfer's (transfer.yaml). Throws std::runtime_error naming file and key.
   static FollowerConfig FromYaml(const std::filesystem::path& file, const transfer::SpeedCaps& caps);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static FollowerConfig FromConfig(const ConfigNode& root, const transfer::SpeedCaps& caps);
 };
 
 }  // namespace robossis::teleop

@@ -31,7 +31,10 @@ void LeaderConfig::Validate() const {
 }
 
 LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
-  const ConfigNode root = ConfigNode::Load(file);
+  return FromConfig(ConfigNode::Load(file));
+}
+
+LeaderConfig LeaderConfig::FromConfig(const ConfigNode& root) {
   LeaderConfig c;
   c.rate_hz = root.PositiveNumber("rate_hz");
   const ConfigNode device = root.Child("device");
@@ -54,7 +57,7 @@ LeaderConfig LeaderConfig::FromYaml(const std::filesystem::path& file) {
   try {
     c.Validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   return c;
 }

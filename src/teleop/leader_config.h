@@ -8,6 +8,10 @@
 #include "haptics/device/haptic_device.h"
 #include "robot/feasible_motion.h"
 
+namespace robossis {
+class ConfigNode;
+}  // namespace robossis
+
 namespace robossis::teleop {
 
 struct LeaderConfig {
@@ -30,6 +34,8 @@ struct LeaderConfig {
   void Validate() const;
   // Throws std::runtime_error naming the file and key.
   static LeaderConfig FromYaml(const std::filesystem::path& file);
+  // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
+  static LeaderConfig FromConfig(const ConfigNode& root);
 };
 
 }  // namespace robossis::teleop

@@ -54,6 +54,21 @@ TEST(ConfigTest, UnknownKeyInsideAChildMappingNamesItsPath) {
   EXPECT_THAT(e, HasSubstr("'limits.cuont' (line 4): unknown key; the nearest valid key is 'count'"));
 }
 
+TEST(ConfigTest, AnotherLoaderOfTheSameParseJudgesOnlyTheKeysItAsked) {
+  const ConfigNode doc = ConfigNode::Load(WriteYaml("two_loaders", "rate_hz: 100\nlimits:\n  count: 3\n"));
+  doc.Number("rate_hz");
+  doc.Child("limits").Integer("count");
+  EXPECT_NO_THROW(doc.RejectUnreadKeys());
+  const ConfigNode second = doc.ForAnotherLoader();
+  second.Number("rate_hz");
+  try {
+    second.RejectUnreadKeys();
+    FAIL() << "'limits' was read by the first loader only";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("'limits' (line 2): unknown key"));
+  }
+}
+
 TEST(ConfigTest, DuplicatedKeyIsAnErrorNamingBothLines) {
   const std::string e = ErrorOf(WriteYaml("dup", "rate_hz: 100\nlimits:\n  count: 3\nrate_hz: 200\n"));
   EXPECT_THAT(e, HasSubstr("'rate_hz': duplicated key (lines 1 and 4)"));
