@@ -36,7 +36,9 @@ std::string Hex(std::uint64_t v) {
 }
 
 int NodeCount(const std::array<GridAxis, 3>& g) { return g[0].count * g[1].count * g[2].count; }
-int Flat(const std::array<GridAxis, 3>& g, const Eigen::Vector3i& n) { return n.x() + g[0].count * (n.y() + g[1].count * n.z()); }
+int Flat(const std::array<GridAxis, 3>& g, const Eigen::Vector3i& n) {
+  return n.x() + g[0].count * (n.y() + g[1].count * n.z());
+}
 Eigen::Vector3d NodeValue(const std::array<GridAxis, 3>& g, const Eigen::Vector3i& n) {
   return {g[0].min + g[0].step * n.x(), g[1].min + g[1].step * n.y(), g[2].min + g[2].step * n.z()};
 }
@@ -262,10 +264,9 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
                                    "_" + std::to_string(j) + "_" + std::to_string(k) + ".ply";
           const std::string bytes = BinaryPlyBytes(slice.mesh, scale);
           out.Write(file, bytes);
-          const double fixed_scale = dexterous ? kRadToDeg : kMToMm;
+          const Eigen::Vector3d fixed = s.fixed * (dexterous ? kRadToDeg : kMToMm);
           entries[family].push_back({{"node", {i, j, k}},
-                                     {dexterous ? "rpy_deg" : "position_mm",
-                                      {s.fixed.x() * fixed_scale, s.fixed.y() * fixed_scale, s.fixed.z() * fixed_scale}},
+                                     {dexterous ? "rpy_deg" : "position_mm", {fixed.x(), fixed.y(), fixed.z()}},
                                      {"file", file},
                                      {"bytes", bytes.size()},
                                      {"fnv1a64", Hex(Fnv1a64(bytes))},
@@ -321,7 +322,8 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
           throw std::runtime_error("slice file '" + file + "' is not a relative path inside the atlas");
         }
         const std::string bytes = ReadTextFile(dir / file);
-        if (bytes.size() != JsonInteger<std::size_t>(e.at("bytes"), "slice '" + file + "': bytes") || Hex(Fnv1a64(bytes)) != e.at("fnv1a64").get<std::string>()) {
+        const std::size_t expected_bytes = JsonInteger<std::size_t>(e.at("bytes"), "slice '" + file + "': bytes");
+        if (bytes.size() != expected_bytes || Hex(Fnv1a64(bytes)) != e.at("fnv1a64").get<std::string>()) {
           throw std::runtime_error("slice file '" + file + "' does not match its size/hash (corrupt or partial atlas)");
         }
         AtlasSlice a;
@@ -331,10 +333,13 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
         a.node = Eigen::Vector3i(JsonInteger<int>(node.at(0), node_name), JsonInteger<int>(node.at(1), node_name),
                                  JsonInteger<int>(node.at(2), node_name));
         for (int k = 0; k < 3; ++k) {
-          if (a.node[k] < 0 || a.node[k] >= g[k].count) throw std::runtime_error("slice '" + file + "': node outside the grid");
+          if (a.node[k] < 0 || a.node[k] >= g[k].count) {
+            throw std::runtime_error("slice '" + file + "': node outside the grid");
+          }
         }
         a.fixed = NodeValue(g, a.node);
-        a.field = std::make_shared<BoundaryDistanceField>(ParseBinaryPly(bytes, EdgeUnitScale(kind), (dir / file).string()));
+        a.field =
+            std::make_shared<BoundaryDistanceField>(ParseBinaryPly(bytes, EdgeUnitScale(kind), (dir / file).string()));
         slices[family].push_back(std::move(a));
       }
     }

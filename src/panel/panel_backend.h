@@ -53,7 +53,7 @@ inline teleop::StateCommandMessage PanelStateCommand(teleop::StateCommand comman
   message.sequence = sequence;
   message.stamp_ns = static_cast<std::int64_t>(std::llround(now_s * 1e9));
   message.command = command;
-  message.source = 2;  // panel
+  message.source = teleop::kFromPanel;
   return message;
 }
 

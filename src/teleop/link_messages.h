@@ -60,12 +60,16 @@ struct SetPointMessage {
   std::uint8_t flags = 0;           // kSetPointClutched | kSetPointPresence
 };
 
+// Who sent a state command: carried on the wire (one byte) so that a receiver can tell; authorisation is the link's
+// job, and the follower does not act on it.
+enum CommandSource : std::uint8_t { kFromCommandLine = 0, kFromLeader = 1, kFromPanel = 2 };
+
 // Any participant → follower (CRTK `state_command`).
 struct StateCommandMessage {
   std::uint64_t sequence = 0;
   std::int64_t stamp_ns = 0;
   StateCommand command = StateCommand::kDisable;
-  std::uint8_t source = 0;  // 0 command line, 1 leader, 2 panel (for the log; authorisation is the link's job)
+  std::uint8_t source = kFromCommandLine;  // a CommandSource
 };
 
 // Follower → leader and watchers, at >= 100 Hz (CRTK `measured_cp`, `measured_js`, `operating_state`).

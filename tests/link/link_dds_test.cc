@@ -88,13 +88,13 @@ void ExpectPairExchanges(bool insecure) {
   teleop::StateCommandMessage command;
   command.command = teleop::StateCommand::kEStop;
   command.sequence = 3;
-  command.source = 1;
+  command.source = teleop::kFromLeader;
   ASSERT_TRUE(leader.SendCommand(command));
   teleop::StateCommandMessage received;
   ASSERT_TRUE(WaitFor([&] { return follower.TakeCommand(received); }));
   EXPECT_EQ(received.command, teleop::StateCommand::kEStop);
   EXPECT_EQ(received.sequence, 3u);
-  EXPECT_EQ(received.source, 1u);
+  EXPECT_EQ(received.source, teleop::kFromLeader);
 }
 
 TEST(DdsLink, SecuredPairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(false); }
