@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "robot/follower.h"
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "src/core/config.h"
@@ -42,12 +43,13 @@ teleop::FollowerStatusMessage WaitFor(LocalSessionBackend& backend, double timeo
   return status;
 }
 
-// What a failed jog's messages name: the follower's state and fault reason, its rejected set-points by reason, its
-// watchdog holds and both loops' overruns.
+// What a failed jog's messages name: the follower's state and fault reason (the back end's fault), its rejected
+// set-points by reason, its watchdog holds and both loops' overruns.
 std::string FollowerReport(LocalSessionBackend& backend, const teleop::FollowerStatusMessage& status) {
   std::ostringstream out;
   out << "follower " << teleop::ToString(status.state) << " (reason " << teleop::ToString(status.fault_reason)
-      << "), " << status.setpoints_accepted << " set-points accepted, " << status.setpoints_rejected << " rejected";
+      << ", back end " << robot::ToString(static_cast<robot::FollowerFault>(status.back_end_fault)) << "), "
+      << status.setpoints_accepted << " set-points accepted, " << status.setpoints_rejected << " rejected";
   LoopHealth health;
   if (!backend.ReadHealth(health)) return out.str();
   for (int v = 0; v < teleop::kNumSetPointVerdicts; ++v) {
