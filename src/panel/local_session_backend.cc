@@ -311,6 +311,7 @@ void LocalSessionBackend::FollowerTick() noexcept {
   const double last = last_presence_s_.load(std::memory_order_relaxed);
   health_record_.setpoint_age_s = last < 0 ? -1 : now_s - last;
   health_record_.watchdog_holds = unit_->counters().watchdog_holds;
+  health_record_.setpoints_by_verdict = unit_->counters().setpoints_by_verdict;
   if (follower_loop_) {  // the loops' own counts (atomics); without the loops, a test's Step() has none
     health_record_.overruns = follower_loop_->overruns();
     health_record_.leader_overruns = leader_loop_->overruns();

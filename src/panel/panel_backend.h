@@ -14,6 +14,7 @@
 
 #include "src/panel/jog.h"
 #include "src/teleop/link_messages.h"
+#include "src/teleop/setpoint_validator.h"
 
 namespace robossis::panel {
 
@@ -27,6 +28,9 @@ struct LoopHealth {
   std::uint64_t leader_overruns = 0; // the same for the leader side's loop (the 1 kHz set-points), where there is one
   double setpoint_age_s = -1;        // time since the last set-point was consumed; < 0: none yet
   std::uint64_t watchdog_holds = 0;  // holds because the set-points went stale
+  // The follower's set-points by the validator's verdict (index: teleop::SetPointVerdict): why it refused the ones
+  // it refused. Zero where the follower is remote.
+  std::array<std::uint64_t, teleop::kNumSetPointVerdicts> setpoints_by_verdict{};
 };
 
 // The wrench the haptic device renders on the operator's hand (F in N, M in N·m, fixed frame), for the arrows and

@@ -132,6 +132,9 @@ TEST_F(LocalSessionBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitValida
   EXPECT_EQ(counters.setpoints_rejected, 0u);
   EXPECT_EQ(counters.commands_refused, 0u);
   EXPECT_GT(Status().setpoints_accepted, accepted_before);  // the status the panel shows is the unit's
+  LoopHealth health;
+  ASSERT_TRUE(backend_.ReadHealth(health));
+  EXPECT_EQ(health.setpoints_by_verdict, counters.setpoints_by_verdict);  // and so are the verdicts it shows
 }
 
 TEST_F(LocalSessionBackendTest, ARefusedMoveLeavesTheRobotStill) {

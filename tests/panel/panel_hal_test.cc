@@ -4,10 +4,13 @@
 // window (the `robossis panel` binary under Xvfb), as a person at the surgical unit would jog the robot.
 
 #include <chrono>
+#include <sstream>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
 
+#include "robot/follower.h"
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "src/core/config.h"
@@ -40,6 +43,24 @@ teleop::FollowerStatusMessage WaitFor(LocalSessionBackend& backend, double timeo
   return status;
 }
 
+// What a failed jog's messages name: the follower's state and fault reason (the back end's fault), its rejected
+// set-points by reason, its watchdog holds and both loops' overruns.
+std::string FollowerReport(LocalSessionBackend& backend, const teleop::FollowerStatusMessage& status) {
+  std::ostringstream out;
+  out << "follower " << teleop::ToString(status.state) << " (reason " << teleop::ToString(status.fault_reason)
+      << ", back end " << robot::ToString(static_cast<robot::FollowerFault>(status.back_end_fault)) << "), "
+      << status.setpoints_accepted << " set-points accepted, " << status.setpoints_rejected << " rejected";
+  LoopHealth health;
+  if (!backend.ReadHealth(health)) return out.str();
+  for (int v = 0; v < teleop::kNumSetPointVerdicts; ++v) {
+    if (v == static_cast<int>(teleop::SetPointVerdict::kAccepted) || health.setpoints_by_verdict[v] == 0) continue;
+    out << ", " << teleop::ToString(static_cast<teleop::SetPointVerdict>(v)) << " " << health.setpoints_by_verdict[v];
+  }
+  out << "; " << health.watchdog_holds << " watchdog holds, overruns: follower " << health.overruns << ", leader "
+      << health.leader_overruns;
+  return out.str();
+}
+
 TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   HalSession hal(StepgenHal());
   const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
@@ -70,10 +91,11 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the eq. 9 move has ended: nothing more moves
   ASSERT_TRUE(backend.ReadStatus(status));
   const Eigen::Vector3d moved = PoseOf(status).translation() - start;
-  EXPECT_NEAR(MToMm(moved.z()), 2, 0.02);
-  EXPECT_NEAR(MToMm(moved.head<2>().norm()), 0, 0.02);
-  EXPECT_GT(testing::ExpectStepgenCountsMatchTheCommand(), 200) << "the jog did not reach the drives";
-  EXPECT_EQ(status.setpoints_rejected, 0u);
+  const std::string report = FollowerReport(backend, status);
+  EXPECT_NEAR(MToMm(moved.z()), 2, 0.02) << report;
+  EXPECT_NEAR(MToMm(moved.head<2>().norm()), 0, 0.02) << report;
+  EXPECT_GT(testing::ExpectStepgenCountsMatchTheCommand(), 200) << "the jog did not reach the drives; " << report;
+  EXPECT_EQ(status.setpoints_rejected, 0u) << report;
 
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEStop));
   status = WaitFor(backend, 5, [](const auto& s) { return s.state == OperatingState::kEStop; });
