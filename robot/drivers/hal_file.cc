@@ -147,7 +147,7 @@ std::string Mesa7i76e(const HalConfig& hal, const actuation::ActuationConfig& ac
      << "net " << c << "-card-watchdog " << board << ".watchdog.has_bit " << c << "-fault-or.in1\n"
      << "net " << SignalName(c, UnitPin::kFault) << " " << c << "-fault-or.out\n";
   for (int i = 0; i < n; ++i) {
-    char instance[8];
+    char instance[12];  // room for any int: no truncation warning
     std::snprintf(instance, sizeof instance, "%02d", i);
     const std::string gen = board + ".stepgen." + instance;
     os << "\n# joint " << i << ": " << kJointLabels[i] << "\n"
