@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -26,50 +27,125 @@ Eigen::Vector3d NoiseVector(std::mt19937& gen, double bound) {
   return {TruncatedGaussian(gen, bound), TruncatedGaussian(gen, bound), TruncatedGaussian(gen, bound)};
 }
 
+// The recorded frame numbers [first, last]: those whose reference time falls in [start - lead_in, end + lead_out].
+struct FrameRange {
+  std::int64_t first = 0, last = -1;
+  std::int64_t count() const { return last - first + 1; }
+};
+
+FrameRange Frames(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& o) {
+  if (trajectory.size() < 2) throw std::invalid_argument("synthetic tracker: the trajectory needs ≥ 2 poses");
+  if (!(o.rate_hz > 0) || !std::isfinite(o.rate_hz)) {
+    throw std::invalid_argument("synthetic tracker: rate_hz must be positive and finite");
+  }
+  const double t_ref_begin = trajectory.t_s.front() - o.lead_in_s;
+  const double t_ref_end = trajectory.t_s.back() + o.lead_out_s;
+  const double k_begin_d = std::ceil((t_ref_begin - o.clock_offset_s) / (1.0 + o.clock_drift) * o.rate_hz - 1e-9);
+  const double k_end_d = std::floor((t_ref_end - o.clock_offset_s) / (1.0 + o.clock_drift) * o.rate_hz + 1e-9);
+  FrameRange r;
+  r.first = static_cast<std::int64_t>(std::max(0.0, k_begin_d));
+  r.last = static_cast<std::int64_t>(k_end_d);
+  if (r.last <= r.first) {
+    throw std::invalid_argument("synthetic tracker: the clock offset leaves no frame with a non-negative number");
+  }
+  return r;
+}
+
+// Gap lengths in frames (at least one).
+std::int64_t GapFrames(double seconds, double rate_hz) {
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::lround(seconds * rate_hz)));
+}
+
+// The span the gaps are placed in: the middle 90 % of the take, [begin, begin + length).
+struct GapSpan {
+  std::int64_t begin = 0, length = 0;
+};
+GapSpan GapSpanOf(const FrameRange& frames) {
+  const auto n = static_cast<double>(frames.count());
+  const std::int64_t begin = frames.first + static_cast<std::int64_t>(std::ceil(0.05 * n));
+  const std::int64_t end = frames.first + static_cast<std::int64_t>(std::floor(0.95 * n));
+  return {begin, std::max<std::int64_t>(0, end - begin)};
+}
+
+// Each gap needs its longest length plus one visible frame after it, so neighbours never touch.
+int MaxGapsIn(const GapSpan& span, const SyntheticTrackerOptions& o) {
+  const std::int64_t per_gap = GapFrames(o.gap_max_s, o.rate_hz) + 1;
+  return static_cast<int>(std::min<std::int64_t>(span.length / per_gap, std::numeric_limits<int>::max()));
+}
+
+void CheckGapOptions(const SyntheticTrackerOptions& o) {
+  if (!(o.gap_min_s > 0) || !(o.gap_max_s >= o.gap_min_s) || !std::isfinite(o.gap_max_s)) {
+    throw std::invalid_argument("synthetic tracker: the gap lengths must satisfy 0 < gap_min_s <= gap_max_s (finite)");
+  }
+  if (o.occlusion_gaps < 0) throw std::invalid_argument("synthetic tracker: occlusion_gaps must be ≥ 0");
+}
+
 }  // namespace
+
+std::string MotiveAssetNameProblem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.size() > kMaxMotiveAssetNameLength) {
+    return "is " + std::to_string(name.size()) + " bytes long (at most " + std::to_string(kMaxMotiveAssetNameLength) +
+           ")";
+  }
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == ',') return "contains a comma";
+    if (c == '"') return "contains a double quote";
+    if (u < 0x20 || u == 0x7f) return "contains a control character (line break, tab, ...)";
+  }
+  if (name.front() == ' ' || name.back() == ' ') return "starts or ends with a space";
+  return "";
+}
+
+std::int64_t SyntheticFrameCount(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& o) {
+  return Frames(trajectory, o).count();
+}
+
+int MaxOcclusionGaps(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& o) {
+  CheckGapOptions(o);
+  return MaxGapsIn(GapSpanOf(Frames(trajectory, o)), o);
+}
 
 SyntheticRecording WriteSyntheticMotiveCsv(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& o,
                                            std::ostream& out) {
-  if (trajectory.size() < 2) throw std::invalid_argument("synthetic tracker: the trajectory needs ≥ 2 poses");
-  if (!(o.rate_hz > 0)) throw std::invalid_argument("synthetic tracker: rate_hz must be positive");
+  const FrameRange frames = Frames(trajectory, o);
+  CheckGapOptions(o);
+  if (const std::string problem = MotiveAssetNameProblem(o.rigid_body_name); !problem.empty()) {
+    throw std::invalid_argument("synthetic tracker: rigid body name '" + o.rigid_body_name + "' " + problem);
+  }
+  const GapSpan span = GapSpanOf(frames);
+  const int max_gaps = MaxGapsIn(span, o);
+  if (o.occlusion_gaps > max_gaps) {
+    throw std::invalid_argument("synthetic tracker: " + std::to_string(o.occlusion_gaps) + " occlusion gaps do not fit " +
+                                "in " + std::to_string(frames.count()) + " frames (at most " + std::to_string(max_gaps) +
+                                ")");
+  }
   std::mt19937 gen{o.seed};
   const bool v121 = o.format_version.rfind("1.21", 0) == 0;
   const bool quaternion = o.rotation_type == MotiveRotationType::kQuaternion;
   const double scale = o.millimetres ? 1e3 : 1.0;
   const char* eol = o.crlf ? "\r\n" : "\n";
   const std::size_t nm = o.markers_B.size();
-
-  // Frames: those whose reference time falls in [start - lead_in, end + lead_out].
-  const double t_ref_begin = trajectory.t_s.front() - o.lead_in_s;
-  const double t_ref_end = trajectory.t_s.back() + o.lead_out_s;
-  const double k_begin_d = std::ceil((t_ref_begin - o.clock_offset_s) / (1.0 + o.clock_drift) * o.rate_hz - 1e-9);
-  const double k_end_d = std::floor((t_ref_end - o.clock_offset_s) / (1.0 + o.clock_drift) * o.rate_hz + 1e-9);
   SyntheticRecording rec;
-  rec.first_frame = static_cast<std::int64_t>(std::max(0.0, k_begin_d));
-  const std::int64_t last = static_cast<std::int64_t>(k_end_d);
-  if (last <= rec.first_frame) {
-    throw std::invalid_argument("synthetic tracker: the clock offset leaves no frame with a non-negative number");
-  }
-  rec.frames = last - rec.first_frame + 1;
+  rec.first_frame = frames.first;
+  const std::int64_t last = frames.last;
+  rec.frames = frames.count();
 
-  // Occlusion gaps, as frame ranges.
+  // Occlusion gaps, as frame ranges: gap g in slot g of the span, at a drawn place that leaves a visible frame
+  // before the next slot.
   std::vector<std::pair<std::int64_t, std::int64_t>> gaps;
-  std::uniform_real_distribution<double> where(0.05, 0.95), length(o.gap_min_s, o.gap_max_s);
+  std::uniform_real_distribution<double> where(0.0, 1.0), length(o.gap_min_s, o.gap_max_s);
   for (int g = 0; g < o.occlusion_gaps; ++g) {
-    const std::int64_t start = rec.first_frame + static_cast<std::int64_t>(where(gen) * static_cast<double>(rec.frames));
-    const std::int64_t len = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::lround(length(gen) * o.rate_hz)));
-    gaps.emplace_back(start, std::min(last, start + len - 1));
+    const std::int64_t slot_begin = span.begin + span.length * g / o.occlusion_gaps;
+    const std::int64_t slot_end = span.begin + span.length * (g + 1) / o.occlusion_gaps;  // exclusive
+    const double u = where(gen);
+    const std::int64_t len = std::min(GapFrames(length(gen), o.rate_hz), slot_end - slot_begin - 1);
+    const std::int64_t room = slot_end - slot_begin - 1 - len;  // free start positions beyond the first
+    const std::int64_t start = slot_begin + static_cast<std::int64_t>(u * static_cast<double>(room + 1));
+    gaps.emplace_back(start, start + len - 1);
   }
-  std::sort(gaps.begin(), gaps.end());
-  rec.gaps = 0;
-  for (std::size_t g = 0; g < gaps.size(); ++g) {  // merge overlaps so the count is the true number of runs
-    if (g == 0 || gaps[g].first > gaps[rec.gaps - 1].second + 1) {
-      gaps[rec.gaps++] = gaps[g];
-    } else {
-      gaps[rec.gaps - 1].second = std::max(gaps[rec.gaps - 1].second, gaps[g].second);
-    }
-  }
-  gaps.resize(rec.gaps);
+  rec.gaps = static_cast<int>(gaps.size());
 
   // Header.
   char buf[512];

@@ -3,6 +3,7 @@
 // attached to the moving ring, following any trajectory, with the imperfections of a real recording. The ground
 // truth it was made from is returned, for tests and the demo.
 
+#include <cstddef>
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -29,7 +30,10 @@ struct SyntheticTrackerOptions {
   // Recording starts this long before the trajectory's first sample and ends this long after its last (the ring
   // rests at the end poses meanwhile).
   double lead_in_s = 1.0, lead_out_s = 1.0;
-  // Occlusions: this many gaps, each of a uniformly drawn length, in which the rigid body and its markers are empty.
+  // Occlusions: this many gaps, each of a uniformly drawn length in [gap_min_s, gap_max_s], in which the rigid body
+  // and its markers are empty. The middle 90 % of the take is cut into occlusion_gaps equal slots and each gap lies
+  // inside its own slot with at least one visible frame after it, so gaps never touch or merge: the file has
+  // exactly occlusion_gaps gaps (at most MaxOcclusionGaps).
   int occlusion_gaps = 0;
   double gap_min_s = 0.02, gap_max_s = 0.3;
   // File flavour.
@@ -37,7 +41,7 @@ struct SyntheticTrackerOptions {
   MotiveRotationType rotation_type = MotiveRotationType::kQuaternion;
   bool millimetres = false;
   bool crlf = true;
-  std::string rigid_body_name = "MovingRing";
+  std::string rigid_body_name = "MovingRing";  // see MotiveAssetNameProblem
   // Marker layout in the body frame B (m). Default: four markers on a 70 mm radius, one raised (asymmetric, so
   // the rigid body is unambiguous).
   std::vector<Eigen::Vector3d> markers_B = {{0.07, 0.0, 0.0}, {0.0, 0.07, 0.01}, {-0.07, 0.0, 0.0},
@@ -53,7 +57,19 @@ struct SyntheticRecording {
   int gaps = 0;
 };
 
-// Streams the CSV to `out`. `trajectory` is the ring pose X_FM(t) the tracker observes (commanded or simulated).
+// Why `name` cannot be written as a rigid body name, or empty if it can. The name is written as a bare cell of the
+// header and of the asset rows, so it must be 1 to kMaxMotiveAssetNameLength bytes with no comma, double quote or
+// control character (a cell separator, a quoting character, a line break) and no leading or trailing space (a
+// reader trims cells). Motive's own asset names satisfy this.
+inline constexpr std::size_t kMaxMotiveAssetNameLength = 64;
+std::string MotiveAssetNameProblem(const std::string& name);
+
+// The frames a recording of `trajectory` with these options has, and the most occlusion gaps that fit in it.
+std::int64_t SyntheticFrameCount(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options);
+int MaxOcclusionGaps(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options);
+
+// Streams the CSV to `out`. Throws std::invalid_argument (before writing anything) for options it cannot honour: a
+// name MotiveAssetNameProblem refuses, more gaps than MaxOcclusionGaps, bad gap lengths or rate. `trajectory` is the ring pose X_FM(t) the tracker observes (commanded or simulated).
 SyntheticRecording WriteSyntheticMotiveCsv(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options,
                                            std::ostream& out);
 

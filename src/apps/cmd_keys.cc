@@ -17,8 +17,6 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
   auto dir = std::make_shared<std::string>();
   auto options = std::make_shared<link::KeysInitOptions>();
   init->add_option("DIR", *dir, "New or empty folder for the credentials")->required();
-  init->add_option("--namespace", options->topic_namespace, "Topic namespace the permissions grant (rt/NS/...)")
-      ->capture_default_str();
   init->add_option("--days", options->validity_days, "Validity of the certificates and permissions (days)")
       ->check(CLI::Range(1, 36500))
       ->capture_default_str();

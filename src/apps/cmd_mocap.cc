@@ -72,11 +72,15 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
                   "Example: robossis mocap simulate --reference commanded.csv --out take.csv --offset-s 2.5 --gaps 3");
   simulate->add_option("--reference", sim->reference, "Trajectory the ring follows (project CSV or TUM)")->required();
   simulate->add_option("--out", sim->out, "Motive CSV to write")->required();
-  simulate->add_option("--rigid-body", sim->rigid_body, "Rigid body name")->capture_default_str();
+  simulate->add_option("--rigid-body", sim->rigid_body,
+                       "Rigid body name: 1 to 64 bytes, no comma, double quote, control character or edge space")
+      ->capture_default_str();
   simulate->add_option("--rate-hz", sim->rate_hz, "Frame rate")->capture_default_str();
   simulate->add_option("--offset-s", sim->offset_s, "Clock offset: t_reference = t_mocap + offset")->capture_default_str();
   simulate->add_option("--drift-ppm", sim->drift_ppm, "Clock drift")->capture_default_str();
-  simulate->add_option("--gaps", sim->gaps, "Number of occlusion gaps")->capture_default_str();
+  simulate->add_option("--gaps", sim->gaps,
+                       "Number of occlusion gaps (0.02-0.3 s each, separate; the error says how many fit)")
+      ->capture_default_str();
   simulate->add_option("--units", sim->units, "Length units in the file: m or mm")->capture_default_str();
   simulate->add_option("--rotation-type", sim->rotation, "Quaternion, XYZ, XZY, YXZ, YZX, ZXY or ZYX")
       ->capture_default_str();
@@ -97,6 +101,9 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
     }
     OptionInRange(sim->offset_s, -1e6, 1e6, "--offset-s", "s");
     OptionInRange(sim->drift_ppm, -1e5, 1e5, "--drift-ppm", "ppm");
+    if (const std::string problem = calibration::MotiveAssetNameProblem(sim->rigid_body); !problem.empty()) {
+      throw std::invalid_argument("--rigid-body '" + sim->rigid_body + "': the name " + problem);
+    }
     if (sim->units != "m" && sim->units != "mm") throw std::invalid_argument("--units: expected m or mm, got '" + sim->units + "'");
     o.rate_hz = sim->rate_hz;
     o.clock_offset_s = sim->offset_s;
@@ -123,6 +130,13 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
       throw std::invalid_argument("--reference: " + sim->reference + " spans " + std::to_string(reference.duration_s()) +
                                   " s, " + std::to_string(reference.duration_s() * sim->rate_hz) + " frames at --rate-hz; "
                                   "expected at most " + std::to_string(static_cast<long>(kMaxSimulatedFrames)) + " frames");
+    }
+    if (const int max_gaps = calibration::MaxOcclusionGaps(reference, o); sim->gaps > max_gaps) {
+      std::ostringstream why;
+      why << "--gaps " << sim->gaps << ": at most " << max_gaps << " separate gaps of up to " << o.gap_max_s
+          << " s fit in the " << calibration::SyntheticFrameCount(reference, o) << " frames of this take of "
+          << sim->reference << " (each gap takes its own slot of the middle 90 %)";
+      throw std::invalid_argument(why.str());
     }
     RemoveLeftoversOfDeadRuns(sim->out);
     std::ostringstream csv;
@@ -156,18 +170,22 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
   auto offset_opt = cmd->add_option("--offset-s", o->offset_s,
                                     "Approximate clock offset (t_reference = t_mocap + offset): search only within "
                                     "±--offset-window-s of it (for motions that repeat themselves)");
-  cmd->add_option("--offset-window-s", o->offset_window_s, "Half-width of the search around --offset-s")
-      ->capture_default_str();
+  auto window_opt = cmd->add_option("--offset-window-s", o->offset_window_s,
+                                    "Half-width of the search around --offset-s (only with --offset-s)")
+                        ->capture_default_str();
   cmd->add_flag("--no-drift", o->no_drift, "Estimate the clock offset only, not the drift");
   cmd->add_option("--flip-threshold-deg", o->flip_threshold_deg,
                   "Frames whose orientation error exceeds this are excluded as orientation flips")
       ->capture_default_str();
   cmd->add_flag("--no-plot", o->no_plot, "Skip the Fig. 14 PNG");
-  cmd->callback([&context, o, offset_opt] {
+  cmd->callback([&context, o, offset_opt, window_opt] {
+    // Every option is checked whether or not it is used, before any input is read.
     OptionInRange(o->flip_threshold_deg, 1e-3, 180, "--flip-threshold-deg", "deg");
-    if (offset_opt->count() > 0) {
-      OptionInRange(o->offset_s, -1e6, 1e6, "--offset-s", "s");
-      OptionInRange(o->offset_window_s, 1e-3, 1e6, "--offset-window-s", "s");
+    OptionInRange(o->offset_s, -1e6, 1e6, "--offset-s", "s");
+    OptionInRange(o->offset_window_s, 1e-3, 1e6, "--offset-window-s", "s");
+    if (window_opt->count() > 0 && offset_opt->count() == 0) {
+      throw std::invalid_argument("--offset-window-s: only meaningful with --offset-s (without it the whole range of "
+                                  "offsets is searched)");
     }
     // Read and evaluate everything before creating the output folder, so bad input leaves nothing behind.
     const calibration::RigidBodyTrack track = calibration::ReadRigidBodyTrack(o->mocap, o->rigid_body);

@@ -22,6 +22,7 @@ const char* TopicName(Topic topic) {
 }
 
 std::string WireTopicName(const LinkOptions& options, Topic topic) {
+  ValidateTopicNamespace(options.topic_namespace);
   return "rt/" + options.topic_namespace + "/" + TopicName(topic);
 }
 

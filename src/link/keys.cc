@@ -45,13 +45,13 @@ std::string IsoUtc(std::chrono::system_clock::time_point t) {
 
 std::string TopicList(const std::vector<std::string>& topics) {
   std::string x = "<topics>";
-  for (const auto& t : topics) x += "<topic>" + t + "</topic>";
+  for (const auto& t : topics) x += "<topic>" + XmlEscape(t) + "</topic>";
   return x + "</topics>";
 }
 
 }  // namespace
 
-RoleTopics TopicsOf(Role role, const std::string& ns) {
+RoleTopics TopicsOf(Role role, const std::string& ns) {  // WireTopicName validates ns
   LinkOptions o;
   o.topic_namespace = ns;
   auto n = [&](Topic t) { return WireTopicName(o, t); };
@@ -101,8 +101,9 @@ std::string PermissionsXml(Role role, const std::string& subject_name, const std
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
   <permissions>
     <grant name=")";
-  x += std::string(ToString(role)) + "_grant\">\n      <subject_name>" + subject_name + "</subject_name>\n";
-  x += "      <validity><not_before>" + not_before + "</not_before><not_after>" + not_after + "</not_after></validity>\n";
+  x += std::string(ToString(role)) + "_grant\">\n      <subject_name>" + XmlEscape(subject_name) + "</subject_name>\n";
+  x += "      <validity><not_before>" + XmlEscape(not_before) + "</not_before><not_after>" + XmlEscape(not_after) +
+       "</not_after></validity>\n";
   x += "      <allow_rule>\n        <domains><id_range><min>0</min><max>230</max></id_range></domains>\n";
   x += "        <publish>" + TopicList(topics.publish) + "</publish>\n";
   x += "        <subscribe>" + TopicList(topics.subscribe) + "</subscribe>\n";
@@ -111,6 +112,7 @@ std::string PermissionsXml(Role role, const std::string& subject_name, const std
 }
 
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) {
+  ValidateTopicNamespace(options.topic_namespace);
   if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir)) {
     throw std::runtime_error("keys init: " + dir.string() + " is not empty (refusing to overwrite credentials)");
   }

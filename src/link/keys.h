@@ -14,24 +14,29 @@
 namespace robossis::link {
 
 struct KeysInitOptions {
-  std::string topic_namespace = "rsr";  // must match LinkOptions::topic_namespace of the participants
+  // The participants use kTopicNamespace; another namespace makes credentials no participant can use, so the
+  // command line does not offer it. Checked by ValidateTopicNamespace.
+  std::string topic_namespace = kTopicNamespace;
   int validity_days = 3650;
   std::string organisation = "Robossis";
 };
 
-// The topics each role may publish and subscribe to (wire names), as the permissions grant them.
+// The topics each role may publish and subscribe to (wire names), as the permissions grant them. Throws
+// std::invalid_argument for a namespace ValidateTopicNamespace refuses.
 struct RoleTopics {
   std::vector<std::string> publish;
   std::vector<std::string> subscribe;
 };
 RoleTopics TopicsOf(Role role, const std::string& topic_namespace);
 
-// The governance and permissions documents (unsigned XML), exposed for tests and inspection.
+// The governance and permissions documents (unsigned XML), exposed for tests and inspection. Every value is
+// XML-escaped; the namespace is validated as in TopicsOf.
 std::string GovernanceXml();
 std::string PermissionsXml(Role role, const std::string& subject_name, const std::string& topic_namespace,
                            const std::string& not_before, const std::string& not_after);
 
-// Makes the credentials in `dir` (which must not exist or be empty). Everything is made in a staging folder and
+// Makes the credentials in `dir` (which must not exist or be empty). The options are checked before anything is
+// written. Everything is made in a staging folder and
 // moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
 

@@ -36,10 +36,14 @@ LinkTuning LinkTuning::FromConfig(const ConfigNode& root) {
   return t;
 }
 
-namespace {
-
-bool LooksLikeAddress(const std::string& s) {
-  return !s.empty() && s.find_first_not_of("0123456789.:") == std::string::npos;
+void ValidateTopicNamespace(const std::string& ns) {
+  const bool ok = !ns.empty() && ns.size() <= kMaxTopicNamespaceLength &&
+                  ns.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") ==
+                      std::string::npos;
+  if (!ok) {
+    throw std::invalid_argument("topic namespace '" + ns + "': expected 1 to " +
+                                std::to_string(kMaxTopicNamespaceLength) + " characters A-Z, a-z, 0-9 or _");
+  }
 }
 
 std::string XmlEscape(const std::string& s) {
@@ -54,6 +58,12 @@ std::string XmlEscape(const std::string& s) {
     }
   }
   return out;
+}
+
+namespace {
+
+bool LooksLikeAddress(const std::string& s) {
+  return !s.empty() && s.find_first_not_of("0123456789.:") == std::string::npos;
 }
 
 std::string FileUri(const std::filesystem::path& p) { return "file:" + std::filesystem::absolute(p).string(); }

@@ -3,6 +3,7 @@
 // and the link's timing assumptions (data/config/link.yaml). Everything here is decided before the link starts;
 // nothing is read from it on a real-time path.
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -36,6 +37,19 @@ struct LinkTuning {
   static LinkTuning FromConfig(const ConfigNode& root);
 };
 
+// The topic namespace of every participant and of the permissions `robossis keys init` signs: one constant, so
+// credentials always grant the topics the link uses.
+inline constexpr char kTopicNamespace[] = "rsr";
+
+// A namespace is one DDS topic-name part: 1 to kMaxTopicNamespaceLength of [A-Za-z0-9_]. Anything else (a '*'
+// or '?' wildcard, a '/', XML markup, an empty part) would widen or break the signed permissions. Throws
+// std::invalid_argument naming the value and the rule.
+inline constexpr std::size_t kMaxTopicNamespaceLength = 64;
+void ValidateTopicNamespace(const std::string& topic_namespace);
+
+// `s` with &, <, > and " replaced by their XML entities (text and attribute values of the XML documents).
+std::string XmlEscape(const std::string& s);
+
 struct LinkOptions {
   Role role = Role::kLeader;
   // The DDS domain on the wire (ports 7400 + 250·domain + …). Participants must agree on it.
@@ -53,7 +67,7 @@ struct LinkOptions {
   std::filesystem::path keys_dir;
   bool insecure = false;  // a lab bench without DDS Security (the caller says so loudly)
   // Topics are rt/<namespace>/<name> (ROS 2's "rt/" prefix for topics).
-  std::string topic_namespace = "rsr";
+  std::string topic_namespace = kTopicNamespace;
   LinkTuning tuning;
 };
 

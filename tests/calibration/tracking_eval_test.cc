@@ -6,6 +6,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "calibration/synthetic_tracker.h"
 #include "calibration/tracking_report.h"
 #include "tests/calibration/test_support.h"
 
@@ -121,6 +127,46 @@ TEST(TrackingEvalStandaloneTest, WrongCommandLogIsRejected) {
   still.Add(0, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   still.Add(1, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
   EXPECT_THROW(EvaluateTracking(track, still), std::runtime_error);
+}
+
+TEST(SyntheticTrackerTest, WritesExactlyTheRequestedGapsAndRefusesWhatCannotFit) {
+  const PoseTrajectory motion = testing::TestMotion(10.0);
+  SyntheticTrackerOptions o;
+  const int max_gaps = MaxOcclusionGaps(motion, o);
+  // Frames 0 to 11 s at 120 Hz (no negative frame numbers); the middle 90 % in slots of the longest gap (36 frames)
+  // plus one visible frame.
+  EXPECT_EQ(SyntheticFrameCount(motion, o), 1321);
+  EXPECT_EQ(max_gaps, 32);
+  for (int gaps : {1, 7, max_gaps}) {
+    o.occlusion_gaps = gaps;
+    o.seed = static_cast<std::uint32_t>(gaps);
+    std::ostringstream out;
+    const SyntheticRecording rec = WriteSyntheticMotiveCsv(motion, o, out);
+    EXPECT_EQ(rec.gaps, gaps);
+    MotiveReader reader(out.str(), "synthetic.csv");
+    const MotiveTakeSummary summary = InspectMotiveTake(reader);
+    ASSERT_EQ(summary.rigid_bodies.size(), 1u);
+    EXPECT_EQ(summary.rigid_bodies[0].gaps.gaps, gaps);
+    EXPECT_LE(rec.frames_occluded, 36LL * gaps);
+  }
+  o.occlusion_gaps = max_gaps + 1;
+  std::ostringstream out;
+  EXPECT_THROW(WriteSyntheticMotiveCsv(motion, o, out), std::invalid_argument);
+  EXPECT_TRUE(out.str().empty());
+}
+
+TEST(SyntheticTrackerTest, RefusesNamesThatBreakTheCsv) {
+  for (const std::string& name : std::vector<std::string>{"a,b", "", "a\"b", "a\nb", "a\tb", " a", "a ", std::string(65, 'r')}) {
+    EXPECT_FALSE(MotiveAssetNameProblem(name).empty()) << name;
+    SyntheticTrackerOptions o;
+    o.rigid_body_name = name;
+    std::ostringstream out;
+    EXPECT_THROW(WriteSyntheticMotiveCsv(testing::TestMotion(2.0), o, out), std::invalid_argument) << name;
+    EXPECT_TRUE(out.str().empty());
+  }
+  for (const std::string& name : std::vector<std::string>{"MovingRing", "My Ring_1", "ring:2", std::string(64, 'r')}) {
+    EXPECT_EQ(MotiveAssetNameProblem(name), "") << name;
+  }
 }
 
 TEST(StatsTest, MatchesHandComputedValues) {

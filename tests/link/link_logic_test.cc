@@ -1,7 +1,11 @@
 // The link's pure logic: set-point freshness, the sanity check, the wire mapping, the permissions documents.
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -169,6 +173,26 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
   EXPECT_EQ(xml.find("rt/rsr/setpoint"), std::string::npos);
   EXPECT_NE(xml.find("<default>DENY</default>"), std::string::npos);
   EXPECT_NE(xml.find("CN=panel,O=Robossis,C=US"), std::string::npos);
+}
+
+TEST(Permissions, HostileNamespacesAreRefusedAndValuesEscaped) {
+  for (const std::string& ns : std::vector<std::string>{"*", "rsr</topic><topic>*", "", "rsr<x>", "rs?r", "rsr/other", "rsr*",
+                               std::string(kMaxTopicNamespaceLength + 1, 'a')}) {
+    EXPECT_THROW(TopicsOf(Role::kLeader, ns), std::invalid_argument) << ns;
+    EXPECT_THROW(PermissionsXml(Role::kLeader, "CN=leader", ns, "a", "b"), std::invalid_argument) << ns;
+    KeysInitOptions options;
+    options.topic_namespace = ns;
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "robossis-keys-hostile-ns";
+    std::filesystem::remove_all(dir);
+    EXPECT_THROW(InitKeys(dir, options), std::invalid_argument) << ns;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << ns;
+  }
+  EXPECT_NO_THROW(TopicsOf(Role::kLeader, std::string(kMaxTopicNamespaceLength, 'a')));
+  EXPECT_EQ(KeysInitOptions{}.topic_namespace, LinkOptions{}.topic_namespace);
+  const std::string xml = PermissionsXml(Role::kLeader, "CN=a<b>&\"c", kTopicNamespace, "x<", "y&");
+  EXPECT_NE(xml.find("CN=a&lt;b&gt;&amp;&quot;c"), std::string::npos);
+  EXPECT_NE(xml.find("x&lt;"), std::string::npos);
+  EXPECT_NE(xml.find("y&amp;"), std::string::npos);
 }
 
 }  // namespace
