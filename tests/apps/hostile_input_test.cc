@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "src/core/config.h"
-#include "tests/support/robossis_cli.h"
+#include "tests/support/hostile_cli_test.h"
 
 namespace {
 
@@ -25,29 +25,8 @@ using ::testing::Not;
 using robossis::testing::CommandRun;
 using robossis::testing::Robossis;
 
-class HostileInputTest : public ::testing::Test {
+class HostileInputTest : public robossis::testing::HostileCliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("robossis_hostile_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path Write(const std::string& name, const std::string& text) const {
-    const fs::path p = dir_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  static std::string Read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream os;
-    os << in.rdbuf();
-    return os.str();
-  }
   // A copy of the project's data folder whose config `name` is edited by `edit`.
   template <typename Edit>
   fs::path DataDirWith(const std::string& name, Edit edit) const {
@@ -59,17 +38,6 @@ class HostileInputTest : public ::testing::Test {
     std::ofstream(file, std::ios::binary | std::ios::trunc) << edit(text);
     return data;
   }
-  // The run failed with exit 1 and one "robossis: error: ..." line containing `expected`.
-  static void ExpectError(const CommandRun& run, const std::string& expected) {
-    EXPECT_EQ(run.exit_code, 1) << run.output;
-    EXPECT_THAT(run.output, HasSubstr("robossis: error: ")) << run.output;
-    EXPECT_THAT(run.output, HasSubstr(expected)) << run.output;
-    EXPECT_THAT(run.output, Not(HasSubstr("filesystem error"))) << run.output;
-    EXPECT_THAT(run.output, Not(HasSubstr("bad_alloc"))) << run.output;
-  }
-  std::string Q(const fs::path& p) const { return "'" + p.string() + "'"; }
-
-  fs::path dir_;
 };
 
 // --- YAML: unknown and duplicated keys, exact types -------------------------------------------------------------

@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/support/robossis_cli.h"
+#include "tests/support/hostile_cli_test.h"
 
 namespace {
 
@@ -25,36 +25,8 @@ using ::testing::HasSubstr;
 using robossis::testing::CommandRun;
 using robossis::testing::Robossis;
 
-class HostileKeysMocapTest : public ::testing::Test {
+class HostileKeysMocapTest : public robossis::testing::HostileCliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("robossis_hostile_km_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  static std::string Read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream os;
-    os << in.rdbuf();
-    return os.str();
-  }
-  // The run failed with exit 1 and one "robossis: error: ..." line containing `expected`.
-  static void ExpectError(const CommandRun& run, const std::string& expected) {
-    EXPECT_EQ(run.exit_code, 1) << run.output;
-    EXPECT_THAT(run.output, HasSubstr("robossis: error: ")) << run.output;
-    EXPECT_THAT(run.output, HasSubstr(expected)) << run.output;
-  }
-  static std::string Q(const std::string& s) {  // single-quoted for the shell
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-  }
-  static std::string Q(const fs::path& p) { return Q(p.string()); }
-
   // A moving reference (15 s at 100 Hz, as the mocap CLI test's).
   fs::path Reference() const {
     const fs::path p = dir_ / "commanded.csv";
@@ -77,7 +49,6 @@ class HostileKeysMocapTest : public ::testing::Test {
     return run.exit_code == 0 ? nlohmann::json::parse(run.output) : nlohmann::json::object();
   }
 
-  fs::path dir_;
 };
 
 // --- keys init: the topic namespace is not the user's to choose ------------------------------------------------
