@@ -117,9 +117,9 @@ SyntheticRecording WriteSyntheticMotiveCsv(const PoseTrajectory& trajectory, con
   const GapSpan span = GapSpanOf(frames);
   const int max_gaps = MaxGapsIn(span, o);
   if (o.occlusion_gaps > max_gaps) {
-    throw std::invalid_argument("synthetic tracker: " + std::to_string(o.occlusion_gaps) + " occlusion gaps do not fit " +
-                                "in " + std::to_string(frames.count()) + " frames (at most " + std::to_string(max_gaps) +
-                                ")");
+    throw std::invalid_argument("synthetic tracker: " + std::to_string(o.occlusion_gaps) +
+                                " occlusion gaps do not fit in " + std::to_string(frames.count()) +
+                                " frames (at most " + std::to_string(max_gaps) + ")");
   }
   std::mt19937 gen{o.seed};
   const bool v121 = o.format_version.rfind("1.21", 0) == 0;

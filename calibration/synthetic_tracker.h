@@ -68,8 +68,9 @@ std::string MotiveAssetNameProblem(const std::string& name);
 std::int64_t SyntheticFrameCount(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options);
 int MaxOcclusionGaps(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options);
 
-// Streams the CSV to `out`. Throws std::invalid_argument (before writing anything) for options it cannot honour: a
-// name MotiveAssetNameProblem refuses, more gaps than MaxOcclusionGaps, bad gap lengths or rate. `trajectory` is the ring pose X_FM(t) the tracker observes (commanded or simulated).
+// Streams the CSV to `out`. `trajectory` is the ring pose X_FM(t) the tracker observes (commanded or simulated).
+// Throws std::invalid_argument, before writing anything, for options it cannot honour: a name
+// MotiveAssetNameProblem refuses, more gaps than MaxOcclusionGaps, bad gap lengths or rate.
 SyntheticRecording WriteSyntheticMotiveCsv(const PoseTrajectory& trajectory, const SyntheticTrackerOptions& options,
                                            std::ostream& out);
 

@@ -83,7 +83,8 @@ TEST_F(HostileKeysMocapTest, KeysInitPermissionsGrantOnlyTheLinksOwnTopics) {
 
 TEST_F(HostileKeysMocapTest, SimulateRefusesNamesThatBreakTheCsv) {
   Reference();
-  for (const std::string& name : std::vector<std::string>{"a,b", "", "a\"b", "a\nb", "a\rb", " a", "a ", std::string(65, 'r')}) {
+  for (const std::string& name : std::vector<std::string>{
+           "a,b", "", "a\"b", "a\nb", "a\rb", " a", "a ", std::string(65, 'r')}) {
     const fs::path take = dir_ / "take.csv";
     ExpectError(Simulate(take, "--rigid-body " + Q(name)), "--rigid-body");
     EXPECT_FALSE(fs::exists(take)) << name;

@@ -156,7 +156,8 @@ TEST(SyntheticTrackerTest, WritesExactlyTheRequestedGapsAndRefusesWhatCannotFit)
 }
 
 TEST(SyntheticTrackerTest, RefusesNamesThatBreakTheCsv) {
-  for (const std::string& name : std::vector<std::string>{"a,b", "", "a\"b", "a\nb", "a\tb", " a", "a ", std::string(65, 'r')}) {
+  for (const std::string& name : std::vector<std::string>{
+           "a,b", "", "a\"b", "a\nb", "a\tb", " a", "a ", std::string(65, 'r')}) {
     EXPECT_FALSE(MotiveAssetNameProblem(name).empty()) << name;
     SyntheticTrackerOptions o;
     o.rigid_body_name = name;

@@ -176,8 +176,8 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
 }
 
 TEST(Permissions, HostileNamespacesAreRefusedAndValuesEscaped) {
-  for (const std::string& ns : std::vector<std::string>{"*", "rsr</topic><topic>*", "", "rsr<x>", "rs?r", "rsr/other", "rsr*",
-                               std::string(kMaxTopicNamespaceLength + 1, 'a')}) {
+  for (const std::string& ns : std::vector<std::string>{"*", "rsr</topic><topic>*", "", "rsr<x>", "rs?r", "rsr/other",
+                                                        "rsr*", std::string(kMaxTopicNamespaceLength + 1, 'a')}) {
     EXPECT_THROW(TopicsOf(Role::kLeader, ns), std::invalid_argument) << ns;
     EXPECT_THROW(PermissionsXml(Role::kLeader, "CN=leader", ns, "a", "b"), std::invalid_argument) << ns;
     KeysInitOptions options;
