@@ -18,7 +18,7 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
   auto options = std::make_shared<link::KeysInitOptions>();
   init->add_option("DIR", *dir, "New or empty folder for the credentials")->required();
   init->add_option("--days", options->validity_days, "Validity of the certificates and permissions (days)")
-      ->check(CLI::Range(1, 36500))
+      ->check(CLI::Range(1, link::kMaxValidityDays))
       ->capture_default_str();
   init->callback([dir, options] {
     link::InitKeys(*dir, *options);

@@ -111,8 +111,24 @@ std::string PermissionsXml(Role role, const std::string& subject_name, const std
   return x;
 }
 
-void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) {
+void ValidateKeysInitOptions(const KeysInitOptions& options) {
   ValidateTopicNamespace(options.topic_namespace);
+  if (options.validity_days < 1 || options.validity_days > kMaxValidityDays) {
+    throw std::invalid_argument("keys init: validity " + std::to_string(options.validity_days) +
+                                " days: expected 1 to " + std::to_string(kMaxValidityDays));
+  }
+  const std::string& org = options.organisation;
+  if (org.empty() || org.size() > kMaxOrganisationLength ||
+      org.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789 ._-") !=
+          std::string::npos) {
+    throw std::invalid_argument("keys init: organisation '" + org + "': expected 1 to " +
+                                std::to_string(kMaxOrganisationLength) +
+                                " characters A-Z, a-z, 0-9, space, '.', '_' or '-'");
+  }
+}
+
+void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) {
+  ValidateKeysInitOptions(options);
   if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir)) {
     throw std::runtime_error("keys init: " + dir.string() + " is not empty (refusing to overwrite credentials)");
   }

@@ -13,13 +13,23 @@
 
 namespace robossis::link {
 
+// Bounds of KeysInitOptions (assumptions: the paper gives none). 100 years covers any deployment; X.509 limits an
+// organisation name to 64 characters (RFC 5280 ub-organization-name).
+inline constexpr int kMaxValidityDays = 36500;
+inline constexpr std::size_t kMaxOrganisationLength = 64;
+
 struct KeysInitOptions {
   // The participants use kTopicNamespace; another namespace makes credentials no participant can use, so the
   // command line does not offer it. Checked by ValidateTopicNamespace.
   std::string topic_namespace = kTopicNamespace;
-  int validity_days = 3650;
+  int validity_days = 3650;  // 1 to kMaxValidityDays
+  // Goes into every certificate subject (`/O=...`): letters, digits, space, '.', '_' and '-' only, so it can add no
+  // subject field of its own ('/', '=', '+', ',').
   std::string organisation = "Robossis";
 };
+
+// Throws std::invalid_argument naming the option that is out of its bounds (all of them, as above).
+void ValidateKeysInitOptions(const KeysInitOptions& options);
 
 // The topics each role may publish and subscribe to (wire names), as the permissions grant them. Throws
 // std::invalid_argument for a namespace ValidateTopicNamespace refuses.
@@ -35,8 +45,8 @@ std::string GovernanceXml();
 std::string PermissionsXml(Role role, const std::string& subject_name, const std::string& topic_namespace,
                            const std::string& not_before, const std::string& not_after);
 
-// Makes the credentials in `dir` (which must not exist or be empty). The options are checked before anything is
-// written; everything is made in a staging folder and moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
+// Makes the credentials in `dir` (which must not exist or be empty). The options are checked
+// (ValidateKeysInitOptions) before anything is written; everything is made in a staging folder and moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
 
 }  // namespace robossis::link

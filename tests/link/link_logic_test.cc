@@ -195,5 +195,29 @@ TEST(Permissions, HostileNamespacesAreRefusedAndValuesEscaped) {
   EXPECT_NE(xml.find("y&amp;"), std::string::npos);
 }
 
+TEST(KeysInitOptionsTest, AnOrganisationThatWouldAddSubjectFieldsOrAnAbsurdValidityIsRefusedBeforeAnythingIsWritten) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "robossis-keys-hostile-options";
+  std::filesystem::remove_all(dir);
+  for (const std::string& org : std::vector<std::string>{"", "X/CN=leader", "A=B", "A,B", "A+B", "\\", "A\nB",
+                                                         std::string(kMaxOrganisationLength + 1, 'a')}) {
+    KeysInitOptions options;
+    options.organisation = org;
+    EXPECT_THROW(ValidateKeysInitOptions(options), std::invalid_argument) << org;
+    EXPECT_THROW(InitKeys(dir, options), std::invalid_argument) << org;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << org;
+  }
+  for (int days : {0, -1, kMaxValidityDays + 1}) {
+    KeysInitOptions options;
+    options.validity_days = days;
+    EXPECT_THROW(ValidateKeysInitOptions(options), std::invalid_argument) << days;
+  }
+  KeysInitOptions fine;
+  fine.organisation = "Hospital Lab-2 v.1_a";
+  fine.validity_days = kMaxValidityDays;
+  EXPECT_NO_THROW(ValidateKeysInitOptions(fine));
+  fine.organisation = std::string(kMaxOrganisationLength, 'a');
+  EXPECT_NO_THROW(ValidateKeysInitOptions(fine));
+}
+
 }  // namespace
 }  // namespace robossis::link
