@@ -65,8 +65,9 @@ void WriteOutputFile(const OutputPolicy& policy, const std::filesystem::path& pa
 //
 // The target may be missing, empty, or an earlier output (it holds the kOutputMarker file that Commit() writes);
 // any other non-empty folder is refused unless the policy's replace_any (the CLI's --force), so a mistyped --out
-// never deletes someone's data, and a target over one of the policy's inputs is always refused. Staging, aside and temporary files (`.partial-PID`, `.old-PID`, `.tmp-PID`) left by
-// runs that died are removed when the next run starts.
+// never deletes someone's data, and a target over one of the policy's inputs is always refused. Staging, aside and
+// temporary files (`.partial-PID`, `.old-PID`, `.tmp-PID`) left by runs that died are removed when the next run
+// starts. `out_option` names the target in every error ("--out", "keys init DIR").
 class StagedOutputDir {
  public:
   static constexpr const char* kOutputMarker = ".robossis-output";

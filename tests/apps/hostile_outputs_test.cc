@@ -132,7 +132,8 @@ TEST_F(HostileOutputsTest, OutOverAnInputOfTheRunIsRefusedAndTheInputKept) {
 TEST_F(HostileOutputsTest, SingleOutputFilesRefuseFoldersAndLeaveNoTemporaries) {
   const fs::path reference = Reference();
   fs::create_directories(dir_ / "adir");
-  ExpectError(Robossis("hal config --out " + Q(dir_ / "adir")), "--out: '" + (dir_ / "adir").string() + "' is a folder");
+  ExpectError(Robossis("hal config --out " + Q(dir_ / "adir")),
+              "--out: '" + (dir_ / "adir").string() + "' is a folder");
   ExpectError(Robossis("mocap simulate --reference " + Q(reference) + " --out " + Q(dir_ / "adir")), "is a folder");
   ExpectNoTemporaries();
   // The leftovers of runs that died (PID 999999999 is above Linux's pid_max) are removed by the next run.

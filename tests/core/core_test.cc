@@ -206,7 +206,8 @@ TEST(OutputPolicyTest, WriteOutputFileIsAtomicAndLeavesNoTemporary) {
   EXPECT_FALSE(fs::exists(base / "take.csv.tmp-999999999"));
   // A folder, the input itself, a device: refused before anything is written, and no temporary is left.
   EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, base / "folder", "x"); }), HasSubstr("is a folder"));
-  EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, base / "ref.csv", "x"); }), HasSubstr("is --reference"));
+  EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, base / "ref.csv", "x"); }),
+              HasSubstr("is --reference"));
   EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, "/dev/null", "x"); }),
               HasSubstr("not a regular file"));
   for (const auto& entry : fs::directory_iterator(base)) {

@@ -515,7 +515,9 @@ bool PanelWindow::Frame() {
   const auto raster_end = std::chrono::steady_clock::now();
   ++m.frames;
   const bool last = quit || (m.options.max_frames > 0 && m.frames >= m.options.max_frames);
-  if (last && !m.options.screenshot_path.empty()) screenshots_due.emplace_back("--screenshot", m.options.screenshot_path);
+  if (last && !m.options.screenshot_path.empty()) {
+    screenshots_due.emplace_back("--screenshot", m.options.screenshot_path);
+  }
   for (const auto& [option, path] : screenshots_due) {
     SaveFramebufferPng(m.options.output, option, path, width, height);
     m.screenshots.push_back(path);
