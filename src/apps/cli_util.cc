@@ -16,7 +16,7 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
 }
 
 OutputPolicy AppContext::Output(std::vector<OutputPolicy::Input> inputs) const {
-  for (const char* folder : kDataDirInputs) inputs.push_back({"--data-dir", data_dir / folder});
+  for (const char* folder : kDataDirInputs) inputs.push_back({"--data-dir", data_dir / folder, true});
   return OutputPolicy(force, std::move(inputs));
 }
 

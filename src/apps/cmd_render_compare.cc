@@ -152,7 +152,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     std::error_code ec;
     const bool scenario_is_file = std::filesystem::exists(options->scenario, ec);
     const OutputPolicy output =
-        context.Output({{"--atlas", options->atlas}, {"--scenario", scenario_is_file ? options->scenario : ""}});
+        context.Output({{"--atlas", options->atlas, true}, {"--scenario", scenario_is_file ? options->scenario : ""}});
     StagedOutputDir out(options->out, output);
     auto figure = [&out](const std::string& script, const std::vector<std::string>& args, const std::string& png,
                          const std::string&) {

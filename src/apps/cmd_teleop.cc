@@ -58,7 +58,8 @@ std::vector<std::string> CapArgs(const TeleopCliOptions& o) {
 
 // The inputs of a teleop, leader or follower run: the atlas, a replayed hand, the link's credentials.
 OutputPolicy TeleopOutputPolicy(const AppContext& context, const TeleopCliOptions& o, const link::LinkOptions& l) {
-  return context.Output({{"--atlas", o.atlas}, {"--device", DeviceInputPath(o.device)}, {"--keys", l.keys_dir}});
+  return context.Output(
+      {{"--atlas", o.atlas, true}, {"--device", DeviceInputPath(o.device)}, {"--keys", l.keys_dir, true}});
 }
 
 void RegisterTeleop(CLI::App& app, const AppContext& context) {

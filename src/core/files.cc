@@ -128,7 +128,7 @@ void OutputPolicy::RefuseOutputOverInputs(const std::string& out_option, const f
     } else if (IsWithin(in, out)) {
       relation = "contains";
       consequence = "replace the folder whole and delete it";
-    } else if (IsWithin(out, in)) {
+    } else if (input.folder && IsWithin(out, in)) {
       relation = "is inside";
       consequence = "change it";
     } else {

@@ -29,6 +29,9 @@ class OutputPolicy {
   struct Input {
     std::string option;  // "--hc", "LOG", "--data-dir": named in the error
     std::filesystem::path path;  // a file or folder the command reads; empty: not given (ignored)
+    // The option names a folder (--atlas, --keys): an output inside it is refused too. A file option given a
+    // folder is left to its reader's own error ("expected a regular file").
+    bool folder = false;
   };
 
   OutputPolicy() = default;  // no --force, no inputs: a library's own folder

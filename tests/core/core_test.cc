@@ -174,7 +174,8 @@ TEST(OutputPolicyTest, RefusesAnOutputThatIsContainsOrIsInsideAnInput) {
   const fs::path base = fs::temp_directory_path() / ("robossis_policy_" + std::to_string(::getpid()));
   fs::remove_all(base);
   fs::create_directories(base / "run" / "sub");
-  const OutputPolicy policy(false, {{"--hc", base / "run" / "hc.csv"}, {"--atlas", base / "atlas"}, {"--x", ""}});
+  const OutputPolicy policy(false, {{"--hc", base / "run" / "hc.csv"}, {"--atlas", base / "atlas", true},
+                             {"--x", ""}});
   EXPECT_THAT(InvalidArgumentText([&] { policy.RefuseOutputOverInputs("--out", base / "run"); }),
               HasSubstr("contains --hc"));
   EXPECT_THAT(InvalidArgumentText([&] { policy.RefuseOutputOverInputs("--out", base / "run" / "hc.csv"); }),
