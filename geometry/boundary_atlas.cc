@@ -221,6 +221,14 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
                          const std::filesystem::path& dir, const AtlasProgress& progress) {
   spec.Validate();
   StagedOutputDir out(dir);
+  BoundaryAtlas atlas = BuildAtlasIn(rsr, hc, spec, out.staging(), progress);
+  out.Commit();
+  return atlas;
+}
+
+BoundaryAtlas BuildAtlasIn(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& spec,
+                           const std::filesystem::path& dir, const AtlasProgress& progress) {
+  spec.Validate();
   nlohmann::ordered_json manifest;
   manifest["format"] = kFormat;
   manifest["version"] = kVersion;
@@ -263,7 +271,7 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
           const std::string file = std::string(dexterous ? "dexterous/d_" : "rotational/r_") + std::to_string(i) +
                                    "_" + std::to_string(j) + "_" + std::to_string(k) + ".ply";
           const std::string bytes = BinaryPlyBytes(slice.mesh, scale);
-          out.Write(file, bytes);
+          WriteFileAtomically(dir / file, bytes);
           const Eigen::Vector3d fixed = s.fixed * (dexterous ? kRadToDeg : kMToMm);
           entries[family].push_back({{"node", {i, j, k}},
                                      {dexterous ? "rpy_deg" : "position_mm", {fixed.x(), fixed.y(), fixed.z()}},
@@ -285,10 +293,9 @@ BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& h
   }
   manifest["dexterous_slices"] = entries[0];
   manifest["rotational_slices"] = entries[1];
-  out.Write("manifest.json", manifest.dump(1) + "\n");
+  WriteFileAtomically(dir / "manifest.json", manifest.dump(1) + "\n");
   BoundaryAtlas atlas(spec, std::move(slices[0]), std::move(slices[1]));
   atlas.set_fingerprint(fingerprint);
-  out.Commit();
   return atlas;
 }
 

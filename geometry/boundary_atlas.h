@@ -113,6 +113,12 @@ using AtlasProgress = std::function<void(int done, int total)>;
 BoundaryAtlas BuildAtlas(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& spec,
                          const std::filesystem::path& dir, const AtlasProgress& progress = {});
 
+// The same files written into `dir`, a folder the caller stages and commits (StagedOutputDir::staging()), so a
+// command can add its own files (atlas_error.json) and move the whole atlas into place only once everything
+// succeeded. `dir` is not replaced or cleaned: it must be new or empty.
+BoundaryAtlas BuildAtlasIn(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& spec,
+                           const std::filesystem::path& dir, const AtlasProgress& progress = {});
+
 struct LiveSlice;  // live_boundary.h
 
 // Both queries of one RSR pose against the atlas (and, through LivePoseQuery, the live slices).

@@ -3,12 +3,14 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
+#include "src/core/files.h"
 #include "src/core/pose.h"
 
 namespace robossis::apps {
@@ -20,7 +22,16 @@ struct AppContext {
   std::filesystem::path ConfigPath(const std::string& name) const { return data_dir / "config" / name; }
   robot::RsrModel LoadRsr() const { return robot::RsrModel::FromYaml(ConfigPath("rsr.yaml")); }
   robot::Sigma7Model LoadSigma7() const { return robot::Sigma7Model::FromYaml(ConfigPath("sigma7.yaml")); }
+
+  // The one output policy of every command: --force, the command's own inputs (option and path; an empty path is
+  // an input not given) and the folders of --data-dir the commands read (kDataDirInputs). Hand it to
+  // StagedOutputDir or WriteOutputFile; call its CheckFolder/CheckFile before any work.
+  OutputPolicy Output(std::vector<OutputPolicy::Input> inputs = {}) const;
 };
+
+// The folders of the data dir that commands read (configs, the femur mesh, the recorded hand, the DDS profile). An
+// output may lie elsewhere in the data dir (`hal config --out data/hal/...`), never over one of these.
+inline constexpr const char* kDataDirInputs[] = {"config", "femur", "teleop", "dds"};
 
 // Each family of subcommands registers itself on the top-level app.
 void RegisterRobotCommands(CLI::App& app, const AppContext& context);
@@ -42,6 +53,9 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
 // A numeric option checked before any work: finite and within [lo, hi] (0 is a value like any other, never "not
 // given"). Throws std::invalid_argument "--rate-hz: expected a finite number in [1, 10000] Hz, got inf".
 double OptionInRange(double value, double lo, double hi, const std::string& option_name, const std::string& unit);
+
+// The input paths a `--device` value names ("replay:FILE.csv" → FILE.csv; "sim", "dhd..." → none).
+std::filesystem::path DeviceInputPath(const std::string& device);
 
 // Prints a JSON document (pretty, one trailing newline) to stdout.
 void PrintJson(const nlohmann::ordered_json& document);

@@ -15,6 +15,16 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
   return PoseFromMmDeg(Eigen::Map<const Vector6d>(v.data()));
 }
 
+OutputPolicy AppContext::Output(std::vector<OutputPolicy::Input> inputs) const {
+  for (const char* folder : kDataDirInputs) inputs.push_back({"--data-dir", data_dir / folder, true});
+  return OutputPolicy(force, std::move(inputs));
+}
+
+std::filesystem::path DeviceInputPath(const std::string& device) {
+  const std::string prefix = "replay:";
+  return device.rfind(prefix, 0) == 0 ? std::filesystem::path(device.substr(prefix.size())) : std::filesystem::path();
+}
+
 void PrintJson(const nlohmann::ordered_json& document) { std::cout << document.dump(2) << "\n"; }
 
 double OptionInRange(double value, double lo, double hi, const std::string& option_name, const std::string& unit) {

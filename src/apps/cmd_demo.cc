@@ -42,7 +42,7 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
   demo->add_flag("--fast", options->fast, "Smaller grids and shorter runs (used by the test suite)");
   demo->callback([&context, options] {
     const auto start = std::chrono::steady_clock::now();
-    StagedOutputDir out(options->out, context.force);
+    StagedOutputDir out(options->out, context.Output());
     DemoContext demo{context, out, options->fast, {}};
     demo.report << "# Robossis workbench: simulated session report\n\n"
                 << "Produced by `robossis demo" << (options->fast ? " --fast" : "")

@@ -24,8 +24,11 @@ void RegisterHalCommands(CLI::App& app, const AppContext& context) {
                 "Example: robossis hal config --target stepgen --out data/hal/robossis-stepgen.hal");
   config->add_option("--target", options->target, "stepgen (software, base thread) or 7i76e (Mesa, hm2_eth)")
       ->check(CLI::IsMember({"stepgen", "7i76e"}));
-  config->add_option("--out", options->out, "HAL file to write (atomically); default: stdout");
+  config->add_option("--out", options->out,
+                     "HAL file to write (atomically; not a folder, not under --data-dir's config/); default: stdout");
   config->callback([options, &context] {
+    const OutputPolicy output = context.Output();
+    if (!options->out.empty()) output.CheckFile("--out", options->out);
     const std::string text = drivers::GenerateHalFile(
         drivers::HalConfig::FromYaml(context.ConfigPath("hal.yaml")),
         actuation::ActuationConfig::FromYaml(context.ConfigPath("actuation.yaml")),
@@ -33,7 +36,7 @@ void RegisterHalCommands(CLI::App& app, const AppContext& context) {
     if (options->out.empty()) {
       std::cout << text;
     } else {
-      WriteFileAtomically(options->out, text);
+      WriteOutputFile(output, options->out, text);
     }
   });
 }

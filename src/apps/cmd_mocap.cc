@@ -39,7 +39,7 @@ void PrintInspectText(const json& doc) {
 
 }  // namespace
 
-void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
+void RegisterMocapCommands(CLI::App& app, const AppContext& context) {
   CLI::App* mocap = app.add_subcommand("mocap", "OptiTrack Motive recordings: inspect, simulate");
   mocap->require_subcommand(1);
 
@@ -71,7 +71,8 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
       "simulate", "Write a genuine Motive CSV export of a simulated OptiTrack session following a trajectory\n"
                   "Example: robossis mocap simulate --reference commanded.csv --out take.csv --offset-s 2.5 --gaps 3");
   simulate->add_option("--reference", sim->reference, "Trajectory the ring follows (project CSV or TUM)")->required();
-  simulate->add_option("--out", sim->out, "Motive CSV to write")->required();
+  simulate->add_option("--out", sim->out,
+                       "Motive CSV to write (atomically; not a folder, not --reference)")->required();
   simulate->add_option("--rigid-body", sim->rigid_body,
                        "Rigid body name: 1 to 64 bytes, no comma, double quote, control character or edge space")
       ->capture_default_str();
@@ -90,7 +91,9 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
   simulate->add_option("--marker-offset", sim->marker_offset, "Marker body in the ring frame (same format)")
       ->capture_default_str();
   simulate->add_option("--seed", sim->seed, "Random seed")->capture_default_str();
-  simulate->callback([sim] {
+  simulate->callback([&context, sim] {
+    const OutputPolicy output = context.Output({{"--reference", sim->reference}});
+    output.CheckFile("--out", sim->out);
     calibration::SyntheticTrackerOptions o;
     OptionInRange(sim->rate_hz, 1, 10000, "--rate-hz", "Hz");
     // Bounds, checked before any work (a simulated take is at most kMaxSimulatedFrames rows, ~1 GB).
@@ -138,10 +141,9 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& /*context*/) {
           << sim->reference << " (each gap takes its own slot of the middle 90 %)";
       throw std::invalid_argument(why.str());
     }
-    RemoveLeftoversOfDeadRuns(sim->out);
     std::ostringstream csv;
     const calibration::SyntheticRecording rec = calibration::WriteSyntheticMotiveCsv(reference, o, csv);
-    WriteFileAtomically(sim->out, csv.str());
+    WriteOutputFile(output, sim->out, csv.str());
     std::cerr << "wrote " << sim->out << ": " << rec.frames << " frames, " << rec.gaps << " gaps ("
               << rec.frames_occluded << " frames occluded)\n";
   });
@@ -180,6 +182,8 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-plot", o->no_plot, "Skip the Fig. 14 PNG");
   cmd->callback([&context, o, offset_opt, window_opt] {
     // Every option is checked whether or not it is used, before any input is read.
+    const OutputPolicy output = context.Output({{"--mocap", o->mocap}, {"--reference", o->reference}});
+    output.CheckFolder("--out", o->out);
     OptionInRange(o->flip_threshold_deg, 1e-3, 180, "--flip-threshold-deg", "deg");
     OptionInRange(o->offset_s, -1e6, 1e6, "--offset-s", "s");
     OptionInRange(o->offset_window_s, 1e-3, 1e6, "--offset-window-s", "s");
@@ -199,7 +203,7 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
       options.offset_window_s = o->offset_window_s;
     }
     const calibration::TrackingEvalResult result = calibration::EvaluateTracking(track, reference, options);
-    StagedOutputDir out(o->out, context.force);
+    StagedOutputDir out(o->out, output);
     const json inputs{{"mocap", o->mocap}, {"rigid_body", o->rigid_body}, {"reference", o->reference}};
     WriteTrackingOutputs(result, inputs, out, "");
     if (!o->no_plot) {

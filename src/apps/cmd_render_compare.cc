@@ -148,7 +148,12 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     request.fast = options->fast;
     request.trace_decimation = options->trace_decimation;
     request.atlas_dir = options->atlas;
-    StagedOutputDir out(options->out, context.force);
+    // A --scenario that names an existing path is a CSV file this run reads.
+    std::error_code ec;
+    const bool scenario_is_file = std::filesystem::exists(options->scenario, ec);
+    const OutputPolicy output =
+        context.Output({{"--atlas", options->atlas, true}, {"--scenario", scenario_is_file ? options->scenario : ""}});
+    StagedOutputDir out(options->out, output);
     auto figure = [&out](const std::string& script, const std::vector<std::string>& args, const std::string& png,
                          const std::string&) {
       std::vector<std::string> full = args;

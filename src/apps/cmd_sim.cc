@@ -37,6 +37,8 @@ void RegisterSimCommands(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-gravity", o->no_gravity, "Switch gravity off");
   cmd->add_flag("--json", o->json, "Print summary.json to stdout");
   cmd->callback([&context, o] {
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", o->out);
     sim::ScenarioParams params;
     params.kind = sim::ParseScenarioKind(o->scenario);
     params.load_n = ParseNumber(o->load_n, "--load-n");
@@ -46,7 +48,7 @@ void RegisterSimCommands(CLI::App& app, const AppContext& context) {
     const robot::RsrModel model = context.LoadRsr();
     const sim::SimConfig config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
     sim::ValidateScenarioParams(params, config);
-    StagedOutputDir out(o->out, context.force);
+    StagedOutputDir out(o->out, output);
     std::cerr << "[sim] building the femur fragments and the Bullet model" << std::endl;
     const sim::BoneFragments fragments = sim::BuildBoneFragments(config, model);
     const sim::ScenarioResult result = sim::RunScenario(model, config, fragments, params, [](double f) {

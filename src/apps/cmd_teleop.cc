@@ -56,6 +56,12 @@ std::vector<std::string> CapArgs(const TeleopCliOptions& o) {
   return a;
 }
 
+// The inputs of a teleop, leader or follower run: the atlas, a replayed hand, the link's credentials.
+OutputPolicy TeleopOutputPolicy(const AppContext& context, const TeleopCliOptions& o, const link::LinkOptions& l) {
+  return context.Output(
+      {{"--atlas", o.atlas, true}, {"--device", DeviceInputPath(o.device)}, {"--keys", l.keys_dir, true}});
+}
+
 void RegisterTeleop(CLI::App& app, const AppContext& context) {
   struct Options : TeleopCliOptions {
     std::string clock = "simulated";
@@ -81,7 +87,7 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       throw std::invalid_argument("--clock " + o->clock + ": --link dds runs two processes on wall-clock time; "
                                   "use --clock real or leave --clock out");
     }
-    StagedOutputDir out(o->out, context.force);
+    StagedOutputDir out(o->out, TeleopOutputPolicy(context, *o, o->link_options));
     if (o->link == "dds") {
       CheckLinkOptions(o->link_options, std::cerr);
       TeleopInputs inputs(context, *o, true);  // checks the options before the processes start
@@ -142,9 +148,11 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   cmd->callback([o, &context] {
+    const OutputPolicy output = TeleopOutputPolicy(context, *o, o->link_options);
+    output.CheckFolder("--out", o->out);
     CheckLinkOptions(o->link_options, std::cerr);
     TeleopInputs inputs(context, *o, true);
-    StagedOutputDir out(o->out, context.force);
+    StagedOutputDir out(o->out, output);
     inputs.LoadAtlasIfNeeded(*o, out.staging());
     link::DdsLeaderLink link(o->link_options);
     if (!link.WaitForFollower(o->wait_for_follower_s)) {
@@ -180,10 +188,12 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
   cmd->add_flag("--no-enable", o->no_enable,
                 "Start disabled (default: enable at start: home, then follow once a leader with presence is heard)");
   cmd->callback([o, &context] {
+    const OutputPolicy output = TeleopOutputPolicy(context, *o, o->link_options);
+    output.CheckFolder("--out", o->out);
     CheckLinkOptions(o->link_options, std::cerr);
     TeleopInputs inputs(context, *o, true);
     inputs.request.enable_at_start = !o->no_enable;
-    StagedOutputDir out(o->out, context.force);
+    StagedOutputDir out(o->out, output);
     rt::MonotonicClock clock;
     link::DdsFollowerLink link(o->link_options, clock);
     StopOnSignals();
@@ -212,9 +222,11 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
   replay->add_flag("--no-plots", r->no_plots, "Skip the figure");
   replay->add_flag("--json", r->json, "Print summary.json to stdout");
   replay->callback([r, &context] {
+    const OutputPolicy output = context.Output({{"LOG", r->log}});
+    output.CheckFolder("--out", r->out);
     const teleop::TeleopOutputs outputs = teleop::ReplaySessionLog(r->log);
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    StagedOutputDir out(r->out, context.force);
+    StagedOutputDir out(r->out, output);
     const std::string units = outputs.summary["units"];
     WriteTeleopOutputs(out, outputs,
                        units == "leader" ? TeleopUnits::kLeader

@@ -143,11 +143,13 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
     if (hc_file->empty() == scenario->empty()) {
       throw std::invalid_argument("transfer: give exactly one of --hc FILE.csv or --scenario NAME");
     }
+    const OutputPolicy output = context.Output({{"--hc", *hc_file}});
+    output.CheckFolder("--out", tr_options->out);
     const transfer::HcTrajectory hc =
         hc_file->empty() ? transfer::MakeScenario(*scenario) : transfer::ReadHcCsv(*hc_file);
     const robot::RsrModel model = context.LoadRsr();
     const ChainSetup setup = tr_options->Setup(context, model);
-    StagedOutputDir out(tr_options->out);
+    StagedOutputDir out(tr_options->out, output);
     std::cerr << "[transfer] " << hc.description << ": " << hc.records.size() << " samples\n";
     const TransferTrace trace = RunTransferChain(hc, setup);
     out.Write("hc.csv", HcRecordsCsv(hc));
@@ -181,6 +183,8 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
   mv_options->Add(mv);
   mv->callback([&context, delta_mm, delta_deg, duration, speed_mm, speed_deg, mv_options, dur_opt, spd_opt,
                 spd_deg_opt] {
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", mv_options->out);
     const std::vector<double> dp = ParseNumberList(*delta_mm, 3, "--delta-mm", "DX_MM,DY_MM,DZ_MM");
     const std::vector<double> dr = ParseNumberList(*delta_deg, 3, "--delta-deg", "RX_DEG,RY_DEG,RZ_DEG");
     transfer::TimedMoveRequest req;
@@ -233,7 +237,7 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
           "); the shortest duration within the caps is " +
           Num(teleop::MinimumMoveDuration(req, caps), "%.3f") + " s");
     }
-    StagedOutputDir out(mv_options->out);
+    StagedOutputDir out(mv_options->out, output);
     const TransferTrace trace = RunMoveChain({req}, {duration_s}, setup);
     if (trace.summary.follower_limit_violations > 0 || trace.summary.setpoints_rejected > 0 ||
         trace.summary.limit_ticks > 0) {

@@ -83,11 +83,13 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                 "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
       ->capture_default_str();
   d->callback([&context, dex] {
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", dex->out);
     geometry::SliceSpec spec;
     spec.kind = geometry::SliceKind::kRsrDexterous;
     spec.fixed = ParseTriple(dex->rpy, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG", kDegToRad);
     spec.resolution = MmToM(PositiveResolution(dex->resolution_mm, "--resolution-mm"));
-    StagedOutputDir out(dex->out, context.force);
+    StagedOutputDir out(dex->out, output);
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
@@ -118,13 +120,15 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                 "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
       ->capture_default_str();
   r->callback([&context, rot] {
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", rot->out);
     const robot::RsrModel rsr = context.LoadRsr();
     geometry::SliceSpec spec;
     spec.kind = geometry::SliceKind::kRsrRotational;
     spec.fixed = rot->position.empty() ? Eigen::Vector3d(rsr.geometry().X_FM_home.translation())
                                        : ParseTriple(rot->position, "--position-mm", "X_MM,Y_MM,Z_MM", kMmToM);
     spec.resolution = DegToRad(PositiveResolution(rot->resolution_deg, "--resolution-deg"));
-    StagedOutputDir out(rot->out, context.force);
+    StagedOutputDir out(rot->out, output);
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
@@ -151,13 +155,15 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   h->add_option("--out", hc->out, "Output folder: translation.{stl,ply} (mm), wrist.{stl,ply} (deg), summary.json")
       ->required();
   h->callback([&context, hc] {
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", hc->out);
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
     geometry::SliceSpec t{geometry::SliceKind::kHcTranslation, Eigen::Vector3d::Zero(),
                           MmToM(PositiveResolution(hc->resolution_mm, "--resolution-mm"))};
     geometry::SliceSpec w{geometry::SliceKind::kHcWrist, Eigen::Vector3d::Zero(),
                           DegToRad(PositiveResolution(hc->resolution_deg, "--resolution-deg"))};
-    StagedOutputDir out(hc->out, context.force);
+    StagedOutputDir out(hc->out, output);
     const geometry::WorkspaceSlice translation = geometry::GenerateSlice(rsr, sigma7, t);
     const geometry::WorkspaceSlice wrist = geometry::GenerateSlice(rsr, sigma7, w);
     WriteSlice(out, translation, "translation");
@@ -181,7 +187,10 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   CLI::App* a = ws->add_subcommand("atlas", "Precompute the boundary atlas (dexterous slices over orientations, "
                                             "rotational slices over positions)\n"
                                             "Example: robossis workspace atlas --out atlas");
-  a->add_option("--out", at->out, "Atlas folder (built in a staging folder and moved in whole)")->required();
+  a->add_option("--out", at->out,
+                "Atlas folder, atlas_error.json included: built in OUT.partial-PID and moved in whole only when "
+                "everything succeeded (a failed or interrupted run leaves OUT as it was)")
+      ->required();
   a->add_flag("--coarse", at->coarse, "A small, coarse atlas (seconds; for tests and trials)");
   a->add_option("--error-samples", at->error_samples,
                 "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip)")
@@ -191,12 +200,18 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
       throw std::invalid_argument("--error-samples: expected 0 to 100000 poses per case, got " +
                                   std::to_string(at->error_samples));
     }
+    const OutputPolicy output = context.Output();
+    output.CheckFolder("--out", at->out);
+    // Every config is read before the build, so a bad one is refused before minutes of work.
     const robot::RsrModel rsr = context.LoadRsr();
     const robot::Sigma7Model sigma7 = context.LoadSigma7();
+    const geometry::LiveBoundaryOptions live = ConfiguredLiveOptions(context);
     const geometry::AtlasSpec spec = at->coarse ? geometry::AtlasSpec::Coarse(rsr) : geometry::AtlasSpec::Default(rsr);
-    const geometry::BoundaryAtlas atlas = geometry::BuildAtlas(rsr, sigma7, spec, at->out, ProgressBar{});
-    std::printf("atlas: %zu dexterous and %zu rotational slices in %s\n", atlas.dexterous().size(),
-                atlas.rotational().size(), at->out.c_str());
+    // The atlas and its error measurement are one output: committed together, or not at all.
+    StagedOutputDir out(at->out, output);
+    const geometry::BoundaryAtlas atlas = geometry::BuildAtlasIn(rsr, sigma7, spec, out.staging(), ProgressBar{});
+    std::fprintf(stderr, "atlas: %zu dexterous and %zu rotational slices built\n", atlas.dexterous().size(),
+                 atlas.rotational().size());
     if (at->error_samples > 0) {
       std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", at->error_samples);
       geometry::AtlasErrorOptions options;
@@ -209,7 +224,6 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                   err["rotational_deg"]["off_grid"]["max"].get<double>());
       std::fprintf(stderr, "measuring the live-slice error at clinical speeds (%d poses per family)...\n",
                    at->error_samples);
-      const geometry::LiveBoundaryOptions live = ConfiguredLiveOptions(context);
       err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, at->error_samples), live);
       const json& l = err["live"];
       std::printf("live slices (refreshed at the pose; %.3f s + %.3f s per refresh; staleness %.3f deg / %.2f mm at "
@@ -218,8 +232,11 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                   l["staleness"]["orientation_deg"].get<double>(), l["staleness"]["position_mm"].get<double>(),
                   l["dexterous_mm"]["p95"].get<double>(), l["dexterous_mm"]["max"].get<double>(),
                   l["rotational_deg"]["p95"].get<double>(), l["rotational_deg"]["max"].get<double>());
-      WriteFileAtomically(std::filesystem::path(at->out) / "atlas_error.json", err.dump(2) + "\n");
+      out.Write("atlas_error.json", err.dump(2) + "\n");
     }
+    out.Commit();
+    std::printf("atlas: %zu dexterous and %zu rotational slices in %s\n", atlas.dexterous().size(),
+                atlas.rotational().size(), at->out.c_str());
   });
 
   // query

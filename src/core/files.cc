@@ -33,9 +33,37 @@ long LeftoverPid(const std::string& entry, const std::string& name) {
 
 fs::path WithoutTrailingSlash(const fs::path& p) {
   fs::path clean = p.lexically_normal();
-  if (!clean.has_filename()) clean = clean.parent_path();
+  if (!clean.has_filename() && clean.has_parent_path()) clean = clean.parent_path();
   return clean;
 }
+
+// The path as the file system sees it: absolute, symbolic links of its existing part resolved, no '.' or '..'.
+fs::path Resolved(const fs::path& p) {
+  std::error_code ec;
+  fs::path absolute = fs::absolute(p, ec);
+  if (ec) absolute = p;
+  fs::path resolved = fs::weakly_canonical(absolute, ec);
+  if (ec) resolved = absolute.lexically_normal();
+  return WithoutTrailingSlash(resolved);
+}
+
+// Whether `inner` is `outer` or lies inside it (whole path components: "a/bc" is not inside "a/b").
+bool IsWithin(const fs::path& inner, const fs::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
+}
+
+std::string Quoted(const fs::path& p) {
+  std::string q = p.string();  // appended in place: GCC 12 warns (-Wrestrict, falsely) on "'" + s + "'"
+  q.insert(q.begin(), '\'');
+  q.push_back('\'');
+  return q;
+}
+
+std::string ErrnoText() { return errno != 0 ? std::error_code(errno, std::generic_category()).message() : "unknown"; }
 
 }  // namespace
 
@@ -56,20 +84,113 @@ void RemoveLeftoversOfDeadRuns(const fs::path& path) {
 }
 
 void WriteFileAtomically(const fs::path& path, std::string_view contents) {
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  std::error_code ec;
+  if (path.has_parent_path()) {
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw std::runtime_error(path.string() + ": cannot create its folder: " + ec.message());
+  }
   const fs::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path.string() + ": cannot open for writing");
+    if (!out) throw std::runtime_error(path.string() + ": cannot open for writing (" + ErrnoText() + ")");
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     out.flush();
     if (!out) {
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      throw std::runtime_error(path.string() + ": write failed");
+      const std::string why = ErrnoText();
+      out.close();
+      fs::remove(tmp, ec);
+      throw std::runtime_error(path.string() + ": write failed (" + why + ")");
     }
   }
-  fs::rename(tmp, path);
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);  // a failed rename leaves no temporary behind
+    throw std::runtime_error(path.string() + ": cannot move the new file into place: " + ec.message());
+  }
+}
+
+OutputPolicy::OutputPolicy(bool replace_any, std::vector<Input> inputs)
+    : replace_any_(replace_any), inputs_(std::move(inputs)) {}
+
+void OutputPolicy::RefuseOutputOverInputs(const std::string& out_option, const fs::path& target) const {
+  if (target.empty()) return;
+  const fs::path out = Resolved(target);
+  for (const Input& input : inputs_) {
+    if (input.path.empty()) continue;
+    const fs::path in = Resolved(input.path);
+    const char* relation = nullptr;
+    const char* consequence = nullptr;
+    if (in == out) {
+      relation = "is";
+      consequence = "replace it";
+    } else if (IsWithin(in, out)) {
+      relation = "contains";
+      consequence = "replace the folder whole and delete it";
+    } else if (input.folder && IsWithin(out, in)) {
+      relation = "is inside";
+      consequence = "change it";
+    } else {
+      continue;
+    }
+    throw std::invalid_argument(out_option + " " + Quoted(target) + " " + relation + " " + input.option + " " +
+                                Quoted(input.path) + ", which this run reads: the output would " + consequence +
+                                "; expected " + out_option + " outside every input");
+  }
+}
+
+void OutputPolicy::CheckFolder(const std::string& out_option, const fs::path& target) const {
+  if (target.empty()) throw std::invalid_argument(out_option + ": an output folder is required");
+  const std::string name = WithoutTrailingSlash(target).filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    throw std::invalid_argument(out_option + ": " + Quoted(target) + ": expected the name of a new or earlier output "
+                                "folder, not '.', '..' or the root");
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) {
+    throw std::invalid_argument(out_option + ": " + Quoted(target) + " exists and is not a folder");
+  }
+  RefuseOutputOverInputs(out_option, target);
+  if (fs::is_directory(status)) {
+    const bool empty = fs::is_empty(target, ec);
+    if (ec) throw std::invalid_argument(out_option + ": " + Quoted(target) + ": cannot be read: " + ec.message());
+    if (!empty && !fs::exists(target / StagedOutputDir::kOutputMarker, ec) && !replace_any_) {
+      throw std::invalid_argument(out_option + ": " + Quoted(target) + " is a non-empty folder that is not an "
+                                  "earlier robossis output; expected a new or empty folder (or --force to replace it "
+                                  "whole)");
+    }
+  }
+}
+
+void OutputPolicy::CheckFile(const std::string& out_option, const fs::path& target) const {
+  if (target.empty()) throw std::invalid_argument(out_option + ": an output file is required");
+  const std::string name = target.filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    throw std::invalid_argument(out_option + ": " + Quoted(target) + ": expected a file name, not a folder");
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::is_directory(status)) {
+    throw std::invalid_argument(out_option + ": " + Quoted(target) + " is a folder; expected a file name");
+  }
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    throw std::invalid_argument(out_option + ": " + Quoted(target) + " exists and is not a regular file (a device, "
+                                "a pipe or a socket); expected a new file or an earlier output file");
+  }
+  RefuseOutputOverInputs(out_option, target);
+}
+
+void WriteOutputFile(const OutputPolicy& policy, const fs::path& path, std::string_view contents,
+                     const std::string& out_option) {
+  policy.CheckFile(out_option, path);
+  RemoveLeftoversOfDeadRuns(path);
+  try {
+    WriteFileAtomically(path, contents);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(out_option + ": " + e.what());
+  }
 }
 
 std::string ReadTextFile(const fs::path& path) {
@@ -80,25 +201,19 @@ std::string ReadTextFile(const fs::path& path) {
   return os.str();
 }
 
-StagedOutputDir::StagedOutputDir(fs::path target, bool replace_any) : target_(std::move(target)) {
-  if (target_.empty()) throw std::invalid_argument("--out: an output folder is required");
+StagedOutputDir::StagedOutputDir(fs::path target, const OutputPolicy& policy, std::string out_option)
+    : target_(std::move(target)), option_(std::move(out_option)) {
+  policy.CheckFolder(option_, target_);
   const fs::path clean = WithoutTrailingSlash(target_);
-  const std::string name = clean.filename().string();
-  if (name.empty() || name == "." || name == "..") {
-    throw std::invalid_argument("--out: '" + target_.string() + "': expected the name of a new or earlier output "
-                                "folder, not '.', '..' or the root");
-  }
-  if (fs::exists(target_) && !fs::is_directory(target_)) {
-    throw std::invalid_argument("--out: '" + target_.string() + "' exists and is not a folder");
-  }
-  if (fs::is_directory(target_) && !fs::is_empty(target_) && !fs::exists(target_ / kOutputMarker) && !replace_any) {
-    throw std::invalid_argument("--out: '" + target_.string() + "' is a non-empty folder that is not an earlier "
-                                "robossis output; expected a new or empty folder (or --force to replace it whole)");
-  }
   RemoveLeftoversOfDeadRuns(clean);
   staging_ = clean.string() + ".partial-" + std::to_string(::getpid());
-  fs::remove_all(staging_);
-  fs::create_directories(staging_);
+  std::error_code ec;
+  fs::remove_all(staging_, ec);
+  if (!ec) fs::create_directories(staging_, ec);
+  if (ec) {
+    throw std::runtime_error(option_ + ": " + Quoted(target_) + ": cannot create the staging folder " +
+                             Quoted(staging_) + ": " + ec.message());
+  }
 }
 
 StagedOutputDir::~StagedOutputDir() {
@@ -110,28 +225,48 @@ StagedOutputDir::~StagedOutputDir() {
 
 fs::path StagedOutputDir::Path(const std::string& relative) const {
   const fs::path p = staging_ / relative;
-  if (p.has_parent_path()) fs::create_directories(p.parent_path());
+  if (p.has_parent_path()) {
+    std::error_code ec;
+    fs::create_directories(p.parent_path(), ec);
+    if (ec) throw std::runtime_error(option_ + ": cannot create " + Quoted(p.parent_path()) + ": " + ec.message());
+  }
   return p;
 }
 
 void StagedOutputDir::Write(const std::string& relative, std::string_view contents) const {
-  WriteFileAtomically(Path(relative), contents);
+  try {
+    WriteFileAtomically(Path(relative), contents);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(option_ + ": " + e.what());
+  }
 }
 
 void StagedOutputDir::Commit() {
-  WriteFileAtomically(staging_ / kOutputMarker, "written by robossis; the whole folder is replaced by the next run\n");
+  Write(kOutputMarker, "written by robossis; the whole folder is replaced by the next run\n");
   const fs::path clean = WithoutTrailingSlash(target_);
-  if (fs::exists(clean)) {
+  std::error_code ec;
+  const auto fail = [&](const std::string& step) {
+    throw std::runtime_error(option_ + ": " + Quoted(target_) + ": cannot " + step + ": " + ec.message() +
+                             " (the earlier output, if any, is kept)");
+  };
+  if (fs::exists(clean, ec)) {
     // Move the old output aside first: the rename of the new one then cannot merge, and a crash in between leaves
     // the old output in `.old-PID`, which the next run removes.
     const fs::path aside = clean.string() + ".old-" + std::to_string(::getpid());
-    fs::remove_all(aside);
-    fs::rename(clean, aside);
-    fs::rename(staging_, clean);
-    fs::remove_all(aside);
+    fs::remove_all(aside, ec);
+    fs::rename(clean, aside, ec);
+    if (ec) fail("move the earlier output aside");
+    fs::rename(staging_, clean, ec);
+    if (ec) {
+      std::error_code ignored;
+      fs::rename(aside, clean, ignored);  // put the earlier output back
+      fail("move the new output into place");
+    }
+    fs::remove_all(aside, ec);
   } else {
-    if (clean.has_parent_path()) fs::create_directories(clean.parent_path());
-    fs::rename(staging_, clean);
+    if (clean.has_parent_path()) fs::create_directories(clean.parent_path(), ec);
+    if (!ec) fs::rename(staging_, clean, ec);
+    if (ec) fail("move the new output into place");
   }
   committed_ = true;
 }

@@ -5,11 +5,13 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace robossis {
 
-// Writes `contents` to `path` atomically (temporary file `path.tmp-PID` in the same folder, then rename). Throws on
-// failure. A command writing one file at a path the user chose calls RemoveLeftoversOfDeadRuns(path) first.
+// Writes `contents` to `path` atomically (temporary file `path.tmp-PID` in the same folder, then rename; the
+// temporary is removed if either step fails). Throws std::runtime_error naming `path` and the reason. A file at a
+// path the user chose goes through WriteOutputFile instead.
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
 // Reads a whole text file; throws std::runtime_error naming the file.
@@ -18,20 +20,63 @@ std::string ReadTextFile(const std::filesystem::path& path);
 // Removes the siblings of `path` named `NAME.SUFFIX-PID` (SUFFIX: partial, old, tmp) whose process is gone.
 void RemoveLeftoversOfDeadRuns(const std::filesystem::path& path);
 
+// What a command's output may replace: whether the user gave --force, and the paths the command reads. An output
+// that is, contains or lies inside one of those inputs would replace (delete) or change what the run reads, so it
+// is refused before any work starts, with an error naming both options. Every command gets its policy from one
+// place (the command line's AppContext::Output) and hands it to StagedOutputDir or WriteOutputFile.
+class OutputPolicy {
+ public:
+  struct Input {
+    std::string option;  // "--hc", "LOG", "--data-dir": named in the error
+    std::filesystem::path path;  // a file or folder the command reads; empty: not given (ignored)
+    // The option names a folder (--atlas, --keys): an output inside it is refused too. A file option given a
+    // folder is left to its reader's own error ("expected a regular file").
+    bool folder = false;
+  };
+
+  OutputPolicy() = default;  // no --force, no inputs: a library's own folder
+  OutputPolicy(bool replace_any, std::vector<Input> inputs);
+
+  bool replace_any() const { return replace_any_; }
+  const std::vector<Input>& inputs() const { return inputs_; }
+
+  // Throws std::invalid_argument ("--out 'A' is the folder of --atlas 'A'...") if `target` is, contains or lies
+  // inside an input. Paths are compared after resolving symbolic links, '.' and '..'.
+  void RefuseOutputOverInputs(const std::string& out_option, const std::filesystem::path& target) const;
+  // Every check of an output folder, before any work: a usable name, not a file, not a foreign non-empty folder
+  // (unless --force), not over an input. Throws std::invalid_argument naming `out_option`.
+  void CheckFolder(const std::string& out_option, const std::filesystem::path& target) const;
+  // The same for a single output file: not a folder or a device, not over an input.
+  void CheckFile(const std::string& out_option, const std::filesystem::path& target) const;
+
+ private:
+  bool replace_any_ = false;
+  std::vector<Input> inputs_;
+};
+
+// Writes one output file the user named (`out_option`, e.g. "--out"): checks it with `policy` (CheckFile), removes
+// the leftovers of runs that died (`FILE.tmp-PID`), then writes atomically, so the file is either the old one or
+// the whole new one and no temporary is left when a step fails. Errors name the option and the path, never a
+// library's raw text.
+void WriteOutputFile(const OutputPolicy& policy, const std::filesystem::path& path, std::string_view contents,
+                     const std::string& out_option = "--out");
+
 // A folder of outputs built in a staging folder beside the target (`DIR.partial-PID`). Commit() replaces the
 // target whole with the staging folder (the old target is moved aside and removed), so no stale file of an earlier
 // run is left beside the new ones. If Commit() is never reached (an error, an exception), the destructor removes
 // the staging folder, so the target never holds a partial result.
 //
 // The target may be missing, empty, or an earlier output (it holds the kOutputMarker file that Commit() writes);
-// any other non-empty folder is refused unless `replace_any` (the CLI's --force), so a mistyped --out never
-// deletes someone's data. Staging, aside and temporary files (`.partial-PID`, `.old-PID`, `.tmp-PID`) left by
-// runs that died are removed when the next run starts.
+// any other non-empty folder is refused unless the policy's replace_any (the CLI's --force), so a mistyped --out
+// never deletes someone's data, and a target over one of the policy's inputs is always refused. Staging, aside and
+// temporary files (`.partial-PID`, `.old-PID`, `.tmp-PID`) left by runs that died are removed when the next run
+// starts. `out_option` names the target in every error ("--out", "keys init DIR").
 class StagedOutputDir {
  public:
   static constexpr const char* kOutputMarker = ".robossis-output";
 
-  explicit StagedOutputDir(std::filesystem::path target, bool replace_any = false);
+  explicit StagedOutputDir(std::filesystem::path target, const OutputPolicy& policy = {},
+                           std::string out_option = "--out");
   ~StagedOutputDir();
   StagedOutputDir(const StagedOutputDir&) = delete;
   StagedOutputDir& operator=(const StagedOutputDir&) = delete;
@@ -46,6 +91,7 @@ class StagedOutputDir {
 
  private:
   std::filesystem::path target_;
+  std::string option_;
   std::filesystem::path staging_;
   bool committed_ = false;
 };

@@ -132,7 +132,7 @@ void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) 
   if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir)) {
     throw std::runtime_error("keys init: " + dir.string() + " is not empty (refusing to overwrite credentials)");
   }
-  StagedOutputDir out(dir);
+  StagedOutputDir out(dir, {}, "keys init DIR");
   const std::filesystem::path s = out.staging();
   std::filesystem::permissions(s, std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
   const std::filesystem::path log = s / "openssl.log";

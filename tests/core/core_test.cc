@@ -1,6 +1,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <stdexcept>
 
@@ -123,7 +124,7 @@ TEST(StagedOutputDirTest, RefusesAForeignNonEmptyFolderUnlessForced) {
   }
   EXPECT_EQ(ReadTextFile(target / "thesis.tex"), "precious");
   {
-    StagedOutputDir out(target, /*replace_any=*/true);
+    StagedOutputDir out(target, OutputPolicy(/*replace_any=*/true, {}));
     out.Write("a.txt", "new");
     out.Commit();
   }
@@ -154,6 +155,66 @@ TEST(StagedOutputDirTest, LeftoversOfDeadRunsAreRemovedAndLiveOnesKept) {
   EXPECT_TRUE(std::filesystem::exists(base / live));
   EXPECT_TRUE(std::filesystem::exists(base / "outer.partial-999999999"));
   std::filesystem::remove_all(base);
+}
+
+
+// The message of the std::invalid_argument `f` throws ("" if it throws nothing or something else).
+template <typename F>
+std::string InvalidArgumentText(F f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OutputPolicyTest, RefusesAnOutputThatIsContainsOrIsInsideAnInput) {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::temp_directory_path() / ("robossis_policy_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  fs::create_directories(base / "run" / "sub");
+  const OutputPolicy policy(false, {{"--hc", base / "run" / "hc.csv"}, {"--atlas", base / "atlas", true},
+                             {"--x", ""}});
+  EXPECT_THAT(InvalidArgumentText([&] { policy.RefuseOutputOverInputs("--out", base / "run"); }),
+              HasSubstr("contains --hc"));
+  EXPECT_THAT(InvalidArgumentText([&] { policy.RefuseOutputOverInputs("--out", base / "run" / "hc.csv"); }),
+              HasSubstr("is --hc"));
+  EXPECT_THAT(InvalidArgumentText([&] { policy.RefuseOutputOverInputs("--out", base / "atlas" / "x"); }),
+              HasSubstr("is inside --atlas"));
+  // The same folder spelled through '..', '.' and a trailing slash; a symbolic link to it.
+  EXPECT_THAT(InvalidArgumentText([&] { policy.CheckFolder("--out", base / "run" / "sub" / ".." / "." / ""); }),
+              HasSubstr("contains --hc"));
+  fs::create_directory_symlink(base / "run", base / "link");
+  EXPECT_THAT(InvalidArgumentText([&] { policy.CheckFolder("--out", base / "link"); }), HasSubstr("contains --hc"));
+  // Whole path components: "runner" is not inside "run"; an empty input is no input.
+  EXPECT_NO_THROW(policy.CheckFolder("--out", base / "runner"));
+  EXPECT_NO_THROW(policy.CheckFolder("--out", base / "atlas2"));
+  EXPECT_THROW(StagedOutputDir(base / "run", policy), std::invalid_argument);
+  fs::remove_all(base);
+}
+
+TEST(OutputPolicyTest, WriteOutputFileIsAtomicAndLeavesNoTemporary) {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::temp_directory_path() / ("robossis_outfile_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  fs::create_directories(base / "folder");
+  const OutputPolicy policy(false, {{"--reference", base / "ref.csv"}});
+  // A dead run's temporary is removed; the file is written whole.
+  { std::ofstream(base / "take.csv.tmp-999999999") << "half"; }
+  WriteOutputFile(policy, base / "take.csv", "whole\n");
+  EXPECT_EQ(ReadTextFile(base / "take.csv"), "whole\n");
+  EXPECT_FALSE(fs::exists(base / "take.csv.tmp-999999999"));
+  // A folder, the input itself, a device: refused before anything is written, and no temporary is left.
+  EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, base / "folder", "x"); }), HasSubstr("is a folder"));
+  EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, base / "ref.csv", "x"); }),
+              HasSubstr("is --reference"));
+  EXPECT_THAT(InvalidArgumentText([&] { WriteOutputFile(policy, "/dev/null", "x"); }),
+              HasSubstr("not a regular file"));
+  for (const auto& entry : fs::directory_iterator(base)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+  }
+  fs::remove_all(base);
 }
 
 }  // namespace

@@ -92,12 +92,15 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
   AddLinkOptions(*cmd, options->link_options);
   cmd->add_flag("--json", options->json, "Print the final follower status and the frame times as JSON");
   cmd->callback([options, follower, &context] {
+    const OutputPolicy output = context.Output({{"--script", options->script}});
+    if (!options->screenshot.empty()) output.CheckFile("--screenshot", options->screenshot);
     const PanelModels models = LoadPanelModels(context, !options->no_bone);
     PanelWindowOptions window;
     window.width_px = options->width > 0 ? options->width : models.config.window_width_px;
     window.height_px = options->height > 0 ? options->height : models.config.window_height_px;
     if (!options->script.empty()) window.script = panel::LoadScript(options->script);
     window.screenshot_path = options->screenshot;
+    window.output = output;
     window.max_frames = options->frames;
     window.vsync = !options->no_vsync;
     window.workspace_slice = !options->no_slice;

@@ -398,7 +398,8 @@ double Percentile(std::vector<double> values, double q) {
 
 }  // namespace
 
-void SaveFramebufferPng(const std::string& path, int width, int height) {
+void SaveFramebufferPng(const OutputPolicy& output, const std::string& option, const std::string& path, int width,
+                        int height) {
   cv::Mat rgb(height, width, CV_8UC3);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data);
@@ -412,11 +413,9 @@ void SaveFramebufferPng(const std::string& path, int width, int height) {
       dst[3 * c + 2] = src[3 * c + 0];
     }
   }
-  const std::filesystem::path file(path);
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const std::string partial = path + ".partial.png";  // nothing half-written under the final name
-  if (!cv::imwrite(partial, bgr)) throw std::runtime_error("screenshot: cannot write " + path);
-  std::filesystem::rename(partial, file);
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", bgr, png)) throw std::runtime_error(option + ": " + path + ": cannot encode the PNG");
+  WriteOutputFile(output, path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()), option);
 }
 
 struct PanelWindow::Impl {
@@ -468,13 +467,16 @@ bool PanelWindow::Frame() {
   glfwPollEvents();
   const double now_s = m.SecondsSinceStart();
   bool quit = false;
-  std::vector<std::string> screenshots_due;
+  std::vector<std::pair<std::string, std::string>> screenshots_due;  // (what named it, path)
   while (const panel::ScriptAction* action = m.script.NextDue(now_s)) {
     try {
       switch (action->verb) {
         case panel::ScriptVerb::kClick: m.controller.Click(action->target); break;
         case panel::ScriptVerb::kSet: m.controller.Set(action->target, action->value); break;
-        case panel::ScriptVerb::kScreenshot: screenshots_due.push_back(action->target); break;
+        case panel::ScriptVerb::kScreenshot:
+          screenshots_due.emplace_back("--script line " + std::to_string(action->line) + " screenshot",
+                                       action->target);
+          break;
         case panel::ScriptVerb::kQuit: quit = true; break;
       }
     } catch (const std::invalid_argument& e) {
@@ -513,9 +515,11 @@ bool PanelWindow::Frame() {
   const auto raster_end = std::chrono::steady_clock::now();
   ++m.frames;
   const bool last = quit || (m.options.max_frames > 0 && m.frames >= m.options.max_frames);
-  if (last && !m.options.screenshot_path.empty()) screenshots_due.push_back(m.options.screenshot_path);
-  for (const std::string& path : screenshots_due) {
-    SaveFramebufferPng(path, width, height);
+  if (last && !m.options.screenshot_path.empty()) {
+    screenshots_due.emplace_back("--screenshot", m.options.screenshot_path);
+  }
+  for (const auto& [option, path] : screenshots_due) {
+    SaveFramebufferPng(m.options.output, option, path, width, height);
     m.screenshots.push_back(path);
   }
   glfwSwapBuffers(m.session.window);

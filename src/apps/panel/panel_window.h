@@ -15,6 +15,7 @@
 #include "src/panel/haptic_mode.h"
 #include "src/panel/panel_backend.h"
 #include "src/panel/panel_config.h"
+#include "src/core/files.h"
 #include "src/panel/script.h"
 
 namespace robossis::apps {
@@ -27,6 +28,7 @@ struct PanelWindowOptions {
   long max_frames = 0;                      // exit after this many frames (0: until closed or the script quits)
   bool vsync = true;                        // off for the frame-time benchmark
   bool workspace_slice = true;              // the live dexterous slice around the ring
+  OutputPolicy output;                      // how screenshots are written (--force, the inputs they must spare)
 };
 
 // Where a frame's time goes: the script and the snapshots (and the slice poll), the ImGui layout with the 3-D
@@ -98,7 +100,9 @@ panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& mod
 PanelRunResult RunPanelWindow(panel::PanelBackend& backend, const PanelModels& models,
                               const PanelWindowOptions& options);
 
-// Writes the current OpenGL framebuffer (width x height) as a PNG; throws std::runtime_error naming the path.
-void SaveFramebufferPng(const std::string& path, int width, int height);
+// Writes the current OpenGL framebuffer (width x height) as a PNG through WriteOutputFile (atomic, checked against
+// `output`); throws naming `option` and the path.
+void SaveFramebufferPng(const OutputPolicy& output, const std::string& option, const std::string& path, int width,
+                        int height);
 
 }  // namespace robossis::apps
