@@ -95,6 +95,10 @@ int SecondDocumentLine(const std::string& text) {
 }  // namespace
 
 ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
+    throw std::runtime_error(file.string() + ": config file not found");  // the usual mistake, said plainly
+  }
   const std::string text = ReadBoundedFile(file, kMaxFileBytes, "YAML config file");
   std::vector<YAML::Node> documents;
   try {
