@@ -28,4 +28,22 @@ void RequireFiniteNumbers(const Json& j, const std::string& what, const std::str
   }
 }
 
+// Parses JSON the program reads back, in the project's words: nlohmann refuses a number that overflows a double
+// (1e999) with its own text ("[json.exception.out_of_range.406] ..."); this names `what` and says what was wrong.
+// Then RequireFiniteNumbers. Throws std::runtime_error.
+template <typename Json = nlohmann::json, typename It>
+Json ParseJsonInput(It begin, It end, const std::string& what) {
+  Json j;
+  try {
+    j = Json::parse(begin, end);
+  } catch (const nlohmann::json::out_of_range& e) {
+    if (e.id != 406) throw std::runtime_error(what + ": not valid JSON");
+    throw std::runtime_error(what + ": a number too large for a double (such as 1e999); expected finite numbers");
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(what + ": not valid JSON (at byte " + std::to_string(e.byte) + ")");
+  }
+  RequireFiniteNumbers(j, what);
+  return j;
+}
+
 }  // namespace robossis

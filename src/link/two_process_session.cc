@@ -48,9 +48,8 @@ std::vector<std::string> UnitArgs(const TwoProcessRequest& r, const char* unit, 
 
 nlohmann::ordered_json ReadSummary(const std::filesystem::path& file, const char* unit) {
   try {
-    nlohmann::ordered_json summary = nlohmann::ordered_json::parse(ReadTextFile(file));
-    RequireFiniteNumbers(summary, "summary");
-    return summary;
+    const std::string text = ReadTextFile(file);
+    return ParseJsonInput<nlohmann::ordered_json>(text.begin(), text.end(), "summary");
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(unit) + " process: " + file.string() + ": " + e.what());
   }

@@ -179,10 +179,9 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
   if (12 + static_cast<std::size_t>(length) > bytes.size()) {
     throw std::runtime_error(file.string() + ": the header is cut short");
   }
-  nlohmann::json header;
+  const nlohmann::json header = ParseJsonInput(bytes.begin() + 12, bytes.begin() + 12 + length,
+                                               file.string() + ": the session log header");
   try {
-    header = nlohmann::json::parse(bytes.begin() + 12, bytes.begin() + 12 + length);
-    RequireFiniteNumbers(header, "header");
     log.meta = header.at("meta");
     for (const auto& s : header.at("streams")) {
       StreamSpec spec;
