@@ -457,7 +457,7 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
     throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ", column " +
                              std::to_string(nfields + 1) + ": the row ends after " + std::to_string(nfields) +
                              " cells; expected " + std::to_string(layout_.num_columns) +
-                             ", one per header column (a short row)");
+                             ", one per header column (a short row: the file is truncated or was edited)");
   }
   ++frames_read_;
   return true;
