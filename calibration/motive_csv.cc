@@ -125,28 +125,22 @@ bool MotiveRow::Empty(int column) const {
   return column < 0 || column >= static_cast<int>(fields_.size()) || TrimField(fields_[column]).empty();
 }
 
-MotiveReader::MotiveReader(const std::filesystem::path& path) : source_name_(path.string()) {
-  file_.open(path, std::ios::binary);
-  if (!file_) throw std::runtime_error(source_name_ + ": cannot open the file");
-  ParseHeader();
-}
+MotiveReader::MotiveReader(const std::filesystem::path& path)
+    : MotiveReader(ReadBoundedFile(path, kMaxMotiveFileBytes, "Motive CSV export"), path.string()) {}
 
 MotiveReader::MotiveReader(std::string text, std::string source_name)
-    : source_name_(std::move(source_name)), memory_(std::move(text)), from_memory_(true) {
+    : source_name_(std::move(source_name)), memory_(std::move(text)) {
   ParseHeader();
 }
 
 bool MotiveReader::NextLine(std::string& line) {
-  if (from_memory_) {
+  {
     if (memory_pos_ >= memory_.size()) return false;
     std::size_t end = memory_.find('\n', memory_pos_);
     line_unterminated_ = end == std::string::npos;
     if (end == std::string::npos) end = memory_.size();
     line.assign(memory_, memory_pos_, end - memory_pos_);
     memory_pos_ = end + 1;
-  } else {
-    if (!std::getline(file_, line)) return false;
-    line_unterminated_ = file_.eof();
   }
   ++line_number_;
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -389,7 +383,14 @@ void MotiveReader::ParseHeader() {
 
 bool MotiveReader::ReadFrame(MotiveRow& row) {
   for (;;) {
-    if (!NextLine(row.line_)) return false;
+    if (!NextLine(row.line_)) {
+      if (header_.total_exported_frames >= 0 && frames_read_ != header_.total_exported_frames) {
+        throw std::runtime_error(source_name_ + ": " + std::to_string(frames_read_) + " frames; the header's "
+                                 "'Total Exported Frames' is " + std::to_string(header_.total_exported_frames) +
+                                 " (the file is cut short or was edited)");
+      }
+      return false;
+    }
     if (row.line_.empty()) continue;  // a trailing empty line
     SplitCells(row.line_, source_name_ + " line " + std::to_string(line_number_), row.fields_);
     if (AllEmpty(row.fields_)) continue;  // spreadsheet padding rows
@@ -439,23 +440,45 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
     }
     previous_time_cell_ = t;
   }
-  if (nfields < layout_.num_columns && nfields > 2 && !TrimField(row.fields_.back()).empty()) {
-    // Motive itself writes every column; a short row with a value at its end is a truncated file.
-    double v = 0;
-    if (!TryParseNumber(row.fields_.back(), &v)) {
-      throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": row has " +
-                               std::to_string(nfields) + " cells, the header has " +
-                               std::to_string(layout_.num_columns) + ", and its last cell is not a number: truncated?");
+  if (layout_.time_column >= 0 && !row.Empty(layout_.time_column)) {
+    const double t = row.Number(layout_.time_column);
+    const double tolerance = std::max(kMotiveTimeToleranceFrames / header_.export_rate_hz, kMotiveTimeRoundingS);
+    if (!(std::fabs(t - row.time_s) <= tolerance)) {
+      throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ", column " +
+                               std::to_string(layout_.time_column + 1) + " (Time): got '" +
+                               row.fields_[layout_.time_column].substr(0, 40) + "'; expected " +
+                               std::to_string(row.time_s) + " s (frame " + std::to_string(row.frame) +
+                               " at the export rate of " + std::to_string(header_.export_rate_hz) + " Hz, within " +
+                               std::to_string(tolerance) + " s)");
     }
   }
+  if (nfields < layout_.num_columns) {
+    // Motive writes every cell of every row (an occlusion is an empty cell, not a missing one).
+    throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ", column " +
+                             std::to_string(nfields + 1) + ": the row ends after " + std::to_string(nfields) +
+                             " cells; expected " + std::to_string(layout_.num_columns) +
+                             ", one per header column (a short row: the file is truncated or was edited)");
+  }
+  ++frames_read_;
   return true;
+}
+
+double MotiveReader::CheckedLength(const MotiveRow& row, int column) const {
+  const double v = row.Length(column);
+  if (!std::isnan(v) && !(std::fabs(v) <= kMaxMotivePositionM)) {
+    throw std::runtime_error(source_name_ + " line " + std::to_string(row.line_number) + ", column " +
+                             std::to_string(column + 1) + ": got '" + row.fields_[column].substr(0, 40) +
+                             "'; expected a position within +-" + std::to_string(kMaxMotivePositionM) +
+                             " m of the origin");
+  }
+  return v;
 }
 
 std::optional<Eigen::Isometry3d> MotiveReader::RigidBodyPose(const MotiveRow& row, int rigid_body) const {
   const MotiveRigidBodyColumns& rb = layout_.rigid_bodies[rigid_body];
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
   for (int k = 0; k < 3; ++k) {
-    const double v = row.Length(rb.position[k]);
+    const double v = CheckedLength(row, rb.position[k]);
     if (std::isnan(v)) return std::nullopt;
     X.translation()[k] = v;
   }
@@ -467,7 +490,13 @@ std::optional<Eigen::Isometry3d> MotiveReader::RigidBodyPose(const MotiveRow& ro
     }
     Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);  // Motive writes X, Y, Z, W (scalar last)
     const double norm = quat.norm();
-    if (!(norm > 0.5 && norm < 1.5)) return std::nullopt;  // not a rotation: treat as unsolved
+    if (!(std::fabs(norm - 1.0) <= kMotiveQuaternionNormTolerance)) {
+      throw std::runtime_error(source_name_ + " line " + std::to_string(row.line_number) + ", columns " +
+                               std::to_string(rb.rotation[0] + 1) + "-" + std::to_string(rb.rotation[3] + 1) +
+                               " (rigid body '" + rb.name + "' Rotation X, Y, Z, W): quaternion norm " +
+                               std::to_string(norm) + "; expected 1 within " +
+                               std::to_string(kMotiveQuaternionNormTolerance));
+    }
     X.linear() = quat.normalized().toRotationMatrix();
   } else {
     Eigen::Vector3d a;
@@ -484,7 +513,7 @@ std::optional<Eigen::Vector3d> MotiveReader::MarkerPosition(const MotiveRow& row
                                                             const MotiveMarkerColumns& marker) const {
   Eigen::Vector3d p;
   for (int k = 0; k < 3; ++k) {
-    p[k] = row.Length(marker.position[k]);
+    p[k] = CheckedLength(row, marker.position[k]);
     if (std::isnan(p[k])) return std::nullopt;
   }
   return p;

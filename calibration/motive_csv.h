@@ -11,7 +11,6 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <string>
@@ -21,6 +20,19 @@
 #include <Eigen/Geometry>
 
 namespace robossis::calibration {
+
+// Largest export read (read whole, through the project's one opener): a 3-hour take of 20 rigid bodies at
+// 240 Hz is ~200 MB.
+inline constexpr std::uintmax_t kMaxMotiveFileBytes = std::uintmax_t{256} << 20;  // 256 MiB
+
+// Plausibility bounds of an export's values (assumptions, not Motive's): a tracked position within 1000 m of the
+// origin (any capture volume is tens of metres); a quaternion's norm within 1e-3 of 1 (Motive writes six decimals,
+// a norm off by more is not a rotation); the Time cell within half a frame, or the 1 ms Motive rounds Time to, of
+// frame / export rate (else the rate or the file was edited).
+inline constexpr double kMaxMotivePositionM = 1000.0;
+inline constexpr double kMotiveQuaternionNormTolerance = 1e-3;
+inline constexpr double kMotiveTimeToleranceFrames = 0.5;
+inline constexpr double kMotiveTimeRoundingS = 1e-3;
 
 inline constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
@@ -124,17 +136,17 @@ class MotiveReader {
  private:
   void ParseHeader();
   bool NextLine(std::string& line);
+  double CheckedLength(const MotiveRow& row, int column) const;  // Length, bounded by kMaxMotivePositionM
 
   std::string source_name_;
-  std::ifstream file_;
   std::string memory_;
   std::size_t memory_pos_ = 0;
-  bool from_memory_ = false;
   std::size_t line_number_ = 0;
   bool line_unterminated_ = false;  // the last line read had no newline (end of a possibly truncated file)
   MotiveHeader header_;
   MotiveLayout layout_;
   std::int64_t previous_frame_ = std::numeric_limits<std::int64_t>::min();
+  std::int64_t frames_read_ = 0;
   double previous_time_cell_ = -std::numeric_limits<double>::infinity();
 };
 

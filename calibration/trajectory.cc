@@ -129,6 +129,30 @@ PoseTrajectory ParseTrajectoryCsv(const std::string& text, const std::string& so
     return "";
   };
   const std::string here = Where(source_name, header_line);
+  // Each quantity from one column set: two sets (t_s and time_s, x_m and x_mm, a quaternion and roll/pitch/yaw)
+  // may disagree, and reading one of them silently would hide it.
+  auto refuse_conflicts = [&](const char* quantity, std::initializer_list<std::initializer_list<const char*>> sets) {
+    std::vector<std::string> present;
+    for (const auto& set : sets) {
+      for (const char* n : set) {
+        if (has(n)) {
+          present.push_back(n);
+          break;
+        }
+      }
+    }
+    if (present.size() > 1) {
+      std::string list;
+      for (const std::string& n : present) list += (list.empty() ? "'" : "' and '") + n;
+      throw std::runtime_error(here + "conflicting " + quantity + " columns " + list +
+                               "'; expected one set of " + quantity + " columns");
+    }
+  };
+  refuse_conflicts("time", {{"t_s"}, {"time_s"}, {"timestamp_s"}});
+  refuse_conflicts("position", {{"x_m", "y_m", "z_m"}, {"x_mm", "y_mm", "z_mm"}});
+  refuse_conflicts("orientation", {{"qw", "qx", "qy", "qz"},
+                                   {"roll_rad", "pitch_rad", "yaw_rad"},
+                                   {"roll_deg", "pitch_deg", "yaw_deg"}});
   const std::string t_name = first_of({"t_s", "time_s", "timestamp_s"});
   if (t_name.empty()) throw std::runtime_error(here + "no time column (t_s, time_s or timestamp_s)");
   const bool mm = !has("x_m") && has("x_mm");

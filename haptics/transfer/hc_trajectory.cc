@@ -158,7 +158,18 @@ HcTrajectory ReadHcCsv(const std::filesystem::path& file) {
     const std::string where = file.string() + " line " + std::to_string(row.line);
     HcRecord r;
     r.time_s = row.values[time];
-    for (int i = 0; i < 6; ++i) r.pose_mm_deg[i] = row.values[csv.Column(pose_columns[i])];
+    for (int i = 0; i < 6; ++i) {
+      const int column = csv.Column(pose_columns[i]);
+      r.pose_mm_deg[i] = row.values[column];
+      const double bound = i < 3 ? kMaxHcPositionMm : kMaxHcAngleDeg;
+      if (!(std::fabs(r.pose_mm_deg[i]) <= bound)) {
+        std::ostringstream msg;
+        msg << where << ", column " << column + 1 << " (" << pose_columns[i] << "): got '" << r.pose_mm_deg[i]
+            << "'; expected " << (i < 3 ? "a position" : "an angle") << " within +-" << bound
+            << (i < 3 ? " mm" : " deg") << " (far outside the sigma.7's workspace)";
+        throw std::runtime_error(msg.str());
+      }
+    }
     r.arrival_s = arrival >= 0 ? row.values[arrival] : r.time_s;
     if (clutch >= 0) {
       const double c = row.values[clutch];

@@ -5,7 +5,10 @@
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
+
+#include "src/core/files.h"
 
 namespace robossis {
 
@@ -63,26 +66,52 @@ void RejectDuplicateKeys(const YAML::Node& node, const std::string& file, const 
   }
 }
 
+// The 1-based line of the marker that starts the second document: a "---" at the start of a line (YAML allows a
+// document marker nowhere else), the first one if content came before it, else the second.
+int SecondDocumentLine(const std::string& text) {
+  int line = 0, markers = 0;
+  bool content_before_marker = false;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view l(text.data() + pos, end - pos);
+    ++line;
+    pos = end + 1;
+    const bool marker = l.substr(0, 3) == "---" && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
+    if (marker) {
+      ++markers;
+      if (markers == (content_before_marker ? 1 : 2)) return line;
+      continue;
+    }
+    const std::size_t first = l.find_first_not_of(" \t\r");
+    if (markers == 0 && first != std::string_view::npos && l[first] != '#' && l[first] != '%') {
+      content_before_marker = true;
+    }
+  }
+  return line;
+}
+
 }  // namespace
 
 ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
   std::error_code ec;
-  const auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw std::runtime_error(file.string() + ": config file not found");
-  if (!std::filesystem::is_regular_file(status)) {
-    throw std::runtime_error(file.string() + ": expected a regular YAML file (it is a directory or a device)");
+  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
+    throw std::runtime_error(file.string() + ": config file not found");  // the usual mistake, said plainly
   }
-  const std::uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec || size > kMaxFileBytes) {
-    throw std::runtime_error(file.string() + ": expected a config file of at most " + std::to_string(kMaxFileBytes) +
-                             " bytes, got " + (ec ? std::string("an unreadable size") : std::to_string(size)));
-  }
-  YAML::Node root;
+  const std::string text = ReadBoundedFile(file, kMaxFileBytes, "YAML config file");
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::LoadFile(file.string());
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(file.string() + ": not valid YAML: " + e.what());
   }
+  if (documents.size() > 1) {
+    // A second document would be ignored by every loader: the file says two things and only one would count.
+    throw std::runtime_error(file.string() + " line " + std::to_string(SecondDocumentLine(text)) +
+                             ": a second YAML document ('---'); expected one document per config file");
+  }
+  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping at the top level");
   RejectDuplicateKeys(root, file.string(), "");
   return ConfigNode(root, file.string(), "");

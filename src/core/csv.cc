@@ -1,7 +1,6 @@
 #include "src/core/csv.h"
 
 #include <algorithm>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -83,30 +82,6 @@ std::vector<std::string> SplitCsvRecord(std::string_view line, const std::string
     }
   }
   return fields;
-}
-
-std::string ReadBoundedFile(const fs::path& file, std::uintmax_t max_bytes, const std::string& what) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(file, ec);
-  if (!fs::exists(status)) throw std::runtime_error(file.string() + ": cannot open the " + what + ": no such file");
-  if (!fs::is_regular_file(status)) {
-    throw std::runtime_error(file.string() + ": expected a regular file (" + what +
-                             "); it is a directory, a device or a pipe");
-  }
-  const std::uintmax_t size = fs::file_size(file, ec);
-  if (ec) throw std::runtime_error(file.string() + ": cannot read the size of the " + what);
-  if (size > max_bytes) {
-    throw std::runtime_error(file.string() + ": " + std::to_string(size) + " bytes; expected a " + what +
-                             " of at most " + std::to_string(max_bytes) + " bytes");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open the " + what + " for reading");
-  std::string text(static_cast<std::size_t>(size), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(size));
-  if (in.gcount() != static_cast<std::streamsize>(size)) {
-    throw std::runtime_error(file.string() + ": the " + what + " changed or could not be read while reading");
-  }
-  return text;
 }
 
 NumericCsv ReadNumericCsv(const fs::path& file, const CsvSpec& spec) {

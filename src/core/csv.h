@@ -12,16 +12,14 @@
 #include <string_view>
 #include <vector>
 
+#include "src/core/files.h"  // ReadBoundedFile, the one opener of input files
+
 namespace robossis {
 
 // Splits one CSV record (no line break inside) into its fields: quotes removed, "" inside quotes is a quote,
 // blanks around a field removed. Throws std::invalid_argument on an unterminated quote or text after a closing
 // quote; `where` prefixes the message ("file line 3").
 std::vector<std::string> SplitCsvRecord(std::string_view line, const std::string& where);
-
-// Reads a whole regular file of at most `max_bytes` bytes. Throws std::runtime_error naming the file: missing,
-// a directory or device ("not a regular file"), larger than the bound, or unreadable. Never a library's raw text.
-std::string ReadBoundedFile(const std::filesystem::path& file, std::uintmax_t max_bytes, const std::string& what);
 
 struct CsvSpec {
   std::vector<std::string> columns;           // required header names (in this order unless any_order)

@@ -1,13 +1,14 @@
 #include "src/core/files.h"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
 
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -193,13 +194,64 @@ void WriteOutputFile(const OutputPolicy& policy, const fs::path& path, std::stri
   }
 }
 
-std::string ReadTextFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path.string() + ": cannot open for reading");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
+namespace {
+
+// Closes the descriptor on every path out of ReadBoundedFile.
+struct Descriptor {
+  int fd = -1;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string OpenProblem(int error) {
+  switch (error) {
+    case ENOENT: return "no such file";
+    case ENOTDIR: return "a folder on its path is not a folder";
+    case EACCES: return "permission denied";
+    case ELOOP: return "too many symbolic links";
+    case ENXIO: return "expected a regular file; it is a device or a socket";
+    default: return "cannot open it (error " + std::to_string(error) + ")";
+  }
 }
+
+}  // namespace
+
+std::string ReadBoundedFile(const fs::path& file, std::uintmax_t max_bytes, const std::string& what) {
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer. The checks are made on the opened
+  // descriptor (fstat), so the file cannot be swapped for another between the check and the read.
+  Descriptor d;
+  do {
+    d.fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  } while (d.fd < 0 && errno == EINTR);
+  if (d.fd < 0) throw std::runtime_error(file.string() + ": cannot open the " + what + ": " + OpenProblem(errno));
+  struct stat st {};
+  if (::fstat(d.fd, &st) != 0) throw std::runtime_error(file.string() + ": cannot read the size of the " + what);
+  if (!S_ISREG(st.st_mode)) {
+    throw std::runtime_error(file.string() + ": expected a regular file (" + what +
+                             "); it is a directory, a device or a pipe");
+  }
+  const auto size = static_cast<std::uintmax_t>(st.st_size);
+  if (size > max_bytes) {
+    throw std::runtime_error(file.string() + ": " + std::to_string(size) + " bytes; expected a " + what +
+                             " of at most " + std::to_string(max_bytes) + " bytes");
+  }
+  std::string text(static_cast<std::size_t>(size), '\0');
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::read(d.fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  char extra = 0;
+  if (done != text.size() || ::read(d.fd, &extra, 1) != 0) {
+    throw std::runtime_error(file.string() + ": the " + what + " changed or could not be read while reading");
+  }
+  return text;
+}
+
+std::string ReadTextFile(const fs::path& path) { return ReadBoundedFile(path, kMaxTextFileBytes, "file"); }
 
 StagedOutputDir::StagedOutputDir(fs::path target, const OutputPolicy& policy, std::string out_option)
     : target_(std::move(target)), option_(std::move(out_option)) {

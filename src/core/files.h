@@ -2,6 +2,7 @@
 // Output files that are never left half-written: each file is written beside its target and renamed into place,
 // and a folder of outputs is staged and moved in only when the whole job succeeded.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -14,7 +15,17 @@ namespace robossis {
 // path the user chose goes through WriteOutputFile instead.
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
-// Reads a whole text file; throws std::runtime_error naming the file.
+// The one way the project reads an input file. It opens `file` without blocking (a FIFO cannot hang it), refuses
+// anything but a regular file (a directory, /dev/zero, a pipe, a socket) and a file over `max_bytes` before
+// reading a byte, and reads the whole file. Throws std::runtime_error naming the file and `what` ("YAML config
+// file"): missing, not a regular file, larger than the bound, or unreadable. Never a library's raw text.
+std::string ReadBoundedFile(const std::filesystem::path& file, std::uintmax_t max_bytes, const std::string& what);
+
+// The size bound of a file read without a bound of its own kind (ReadTextFile): above every file the project
+// writes or reads (a boundary-atlas slice, a log of a child process), far below the machine's memory.
+inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{256} << 20;  // 256 MiB
+
+// Reads a whole file through ReadBoundedFile with kMaxTextFileBytes.
 std::string ReadTextFile(const std::filesystem::path& path);
 
 // Removes the siblings of `path` named `NAME.SUFFIX-PID` (SUFFIX: partial, old, tmp) whose process is gone.

@@ -9,6 +9,7 @@
 
 #include "src/core/child_process.h"
 #include "src/core/files.h"
+#include "src/core/json_finite.h"
 
 namespace robossis::link {
 
@@ -47,7 +48,8 @@ std::vector<std::string> UnitArgs(const TwoProcessRequest& r, const char* unit, 
 
 nlohmann::ordered_json ReadSummary(const std::filesystem::path& file, const char* unit) {
   try {
-    return nlohmann::ordered_json::parse(ReadTextFile(file));
+    const std::string text = ReadTextFile(file);
+    return ParseJsonInput<nlohmann::ordered_json>(text.begin(), text.end(), "summary");
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(unit) + " process: " + file.string() + ": " + e.what());
   }

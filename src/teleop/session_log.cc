@@ -4,10 +4,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
 #include "src/core/files.h"
+#include "src/core/json_finite.h"
 #include "src/core/json_integer.h"
 
 namespace robossis::teleop {
@@ -23,6 +26,39 @@ FieldType ParseType(const std::string& s, const std::string& where) {
   }
   throw std::runtime_error(where + ": unknown field type '" + s + "'");
 }
+std::size_t FieldBytes(FieldType type) {
+  switch (type) {
+    case FieldType::kF64:
+    case FieldType::kI64:
+    case FieldType::kU64: return 8;
+    case FieldType::kU32: return 4;
+    case FieldType::kU8:
+    case FieldType::kBool: return 1;
+  }
+  return 8;
+}
+
+// The SI value of a logged number in `unit` (the jitter fields are logged in us).
+double ToSi(double v, const std::string& unit) { return unit == "us" ? v * 1e-6 : unit == "ns" ? v * 1e-9 : v; }
+
+// Every f64 of one record finite and within kMaxSessionLogMagnitudeSi in SI: a corrupt or hostile log is refused
+// with the record's index instead of being replayed into the summary and the CSVs.
+void CheckRecordValues(const StreamSpec& s, const char* record, std::size_t index, const std::string& file) {
+  for (const FieldSpec& f : s.fields) {
+    if (f.type != FieldType::kF64) continue;
+    for (int k = 0; k < f.count; ++k) {
+      double v = 0;
+      std::memcpy(&v, record + f.offset + 8 * static_cast<std::size_t>(k), sizeof v);
+      if (std::isfinite(v) && std::fabs(ToSi(v, f.unit)) <= kMaxSessionLogMagnitudeSi) continue;
+      char value[40];
+      std::snprintf(value, sizeof value, "%.6g", v);
+      throw std::runtime_error(file + ": record " + std::to_string(index) + " of stream '" + s.name + "', field '" +
+                               f.name + (f.count > 1 ? "[" + std::to_string(k) + "]" : std::string()) + "': got " +
+                               value + "; expected a finite value of magnitude at most 1e6 (SI units)");
+    }
+  }
+}
+
 }  // namespace
 
 const char* ToString(FieldType type) {
@@ -128,7 +164,7 @@ void CheckSameLayout(const StreamSpec& actual, const StreamSpec& expected, const
 }
 
 SessionLog ReadSessionLog(const std::filesystem::path& file) {
-  const std::string bytes = ReadTextFile(file);
+  const std::string bytes = ReadBoundedFile(file, kMaxSessionLogBytes, "session log");
   if (bytes.size() < 12 || std::memcmp(bytes.data(), kMagic, 7) != 0) {
     throw std::runtime_error(file.string() + ": not a robossis session log (bad magic)");
   }
@@ -143,9 +179,9 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
   if (12 + static_cast<std::size_t>(length) > bytes.size()) {
     throw std::runtime_error(file.string() + ": the header is cut short");
   }
-  nlohmann::json header;
+  const nlohmann::json header = ParseJsonInput(bytes.begin() + 12, bytes.begin() + 12 + length,
+                                               file.string() + ": the session log header");
   try {
-    header = nlohmann::json::parse(bytes.begin() + 12, bytes.begin() + 12 + length);
     log.meta = header.at("meta");
     for (const auto& s : header.at("streams")) {
       StreamSpec spec;
@@ -158,6 +194,14 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
                                         JsonInteger<std::size_t>(f.at("offset"), "offset"),
                                         JsonInteger<int>(f.at("count"), "count"),
                                         f.at("unit").get<std::string>()});
+      }
+      for (const FieldSpec& f : spec.fields) {
+        // A field outside its record would be read outside the record's bytes.
+        if (f.count < 1 || f.offset > spec.record_size ||
+            static_cast<std::size_t>(f.count) > (spec.record_size - f.offset) / FieldBytes(f.type)) {
+          throw std::runtime_error("field '" + f.name + "' does not fit in its " + std::to_string(spec.record_size) +
+                                   "-byte record");
+        }
       }
       if (spec.id != log.streams.size() || spec.record_size == 0) {
         throw std::runtime_error("stream ids must be 0, 1, ... and record sizes positive");
@@ -180,6 +224,7 @@ SessionLog ReadSessionLog(const std::filesystem::path& file) {
       log.truncated = true;  // the crash cut the last frame: keep everything before it
       break;
     }
+    CheckRecordValues(log.streams[id], bytes.data() + pos + 1, log.records[id].size() / size, file.string());
     log.records[id].insert(log.records[id].end(), bytes.begin() + pos + 1, bytes.begin() + pos + 1 + size);
     pos += 1 + size;
   }

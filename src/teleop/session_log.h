@@ -108,7 +108,15 @@ struct SessionLog {
   std::vector<T> Decode(const std::string& name, const StreamSpec& expected) const;
 };
 
-// Reads a log. Throws std::runtime_error naming the file and what is wrong (magic, version, header).
+// Bounds of a log read back. Size: an hour (the longest session) of 1 kHz leader and 10 kHz follower records of
+// under 512 bytes is ~20 GB; a larger file is not a log this program wrote. Values: every f64 of a record is finite
+// and at most 1e6 in SI units (m, rad, N, s): far above any pose, force or time of a session.
+inline constexpr std::uintmax_t kMaxSessionLogBytes = std::uintmax_t{32} << 30;  // 32 GiB
+inline constexpr double kMaxSessionLogMagnitudeSi = 1e6;
+
+// Reads a log. Throws std::runtime_error naming the file and what is wrong (magic, version, header, a field outside
+// its record, a non-finite number in the header, a record value that is not finite or above
+// kMaxSessionLogMagnitudeSi: "record N of stream 'leader', field 'p_OH[0]': got 1e+300; ...").
 SessionLog ReadSessionLog(const std::filesystem::path& file);
 
 // Throws std::runtime_error if `actual` does not have `expected`'s record size and fields.

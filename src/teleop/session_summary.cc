@@ -18,9 +18,17 @@ bool Finite(const std::array<double, N>& a) {
   return std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); });
 }
 
+// A value in the fixed format `fmt` when it is of a plausible size, else in %.17g: a huge value (a corrupt log's
+// 1e300) stays one short cell instead of hundreds of digits (which snprintf would also cut at the buffer).
+constexpr double kMaxFixedCellMagnitude = 1e9;
+
 void Append(std::string& out, const char* fmt, double v) {
   char buf[48];
-  std::snprintf(buf, sizeof buf, fmt, v);
+  if (std::isfinite(v) && std::fabs(v) >= kMaxFixedCellMagnitude) {
+    std::snprintf(buf, sizeof buf, "%s%.17g", fmt[0] == ',' ? "," : "", v);
+  } else {
+    std::snprintf(buf, sizeof buf, fmt, v);
+  }
   out += buf;
 }
 

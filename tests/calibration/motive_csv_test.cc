@@ -125,7 +125,8 @@ TEST(MotiveCsvTest, RejectsFileCutInsideTheLastRow) {
   const std::string text = ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv"));
   const std::size_t row = text.find("\n3,0.025000");
   EXPECT_THAT(Error(text.substr(0, row + 60)), HasSubstr("the file is truncated"));
-  EXPECT_EQ(Error(text.substr(0, row + 1)), "");  // cut at a line end: a shorter take, not an error
+  // Cut at a line end: fewer frames than the header's 'Total Exported Frames', an error too.
+  EXPECT_THAT(Error(text.substr(0, row + 1)), HasSubstr("3 frames; the header's 'Total Exported Frames' is 499"));
 }
 
 TEST(MotiveCsvTest, RejectsNonIncreasingFrames) {
@@ -256,6 +257,11 @@ TEST(MotiveCsvTest, CountsGapsAndFrameJumps) {
   std::string text = out.str();
   const std::size_t a = text.find("\r\n100,"), b = text.find("\r\n110,");
   text.erase(a, b - a);
+  // An excerpt states the frames it holds (a count that disagrees with the rows is an edited or cut file).
+  const std::string count = "Total Exported Frames," + std::to_string(rec.frames);
+  if (const std::size_t at = text.find(count); at != std::string::npos) {
+    text.replace(at, count.size(), "Total Exported Frames," + std::to_string(rec.frames - 10));
+  }
   MotiveReader reader(text, "jump.csv");
   const MotiveTakeSummary s = InspectMotiveTake(reader);
   EXPECT_EQ(s.frames, rec.frames - 10);

@@ -93,14 +93,21 @@ TEST(ConfigTest, IntegerInRangeNamesTheRange) {
 
 TEST(ConfigTest, DirectoryAndDeviceAreNotCalledMissingOrEmpty) {
   const std::string dir = ErrorOf(std::filesystem::temp_directory_path());
-  EXPECT_THAT(dir, HasSubstr("expected a regular YAML file"));
-  EXPECT_THAT(ErrorOf("/dev/zero"), HasSubstr("expected a regular YAML file"));
+  EXPECT_THAT(dir, HasSubstr("expected a regular file (YAML config file)"));
+  EXPECT_THAT(ErrorOf("/dev/zero"), HasSubstr("expected a regular file (YAML config file)"));
   EXPECT_THAT(ErrorOf("/nonexistent/robossis.yaml"), HasSubstr("config file not found"));
+}
+
+TEST(ConfigTest, ASecondDocumentIsRefusedWithItsLine) {
+  EXPECT_THAT(ErrorOf(WriteYaml("two", "n: 1\n---\nn: 2\n")), HasSubstr("two.yaml line 2: a second YAML document"));
+  EXPECT_THAT(ErrorOf(WriteYaml("two_marked", "# c\n---\nn: 1\n---\nn: 2\n")),
+              HasSubstr("line 4: a second YAML document"));
+  EXPECT_NO_THROW(ConfigNode::Load(WriteYaml("one_marked", "---\nn: 1\n...\n")));
 }
 
 TEST(ConfigTest, OversizedFileIsRefusedBeforeParsing) {
   const auto file = WriteYaml("big", "rate_hz: 1\n# " + std::string(ConfigNode::kMaxFileBytes, 'x') + "\n");
-  EXPECT_THAT(ErrorOf(file), HasSubstr("expected a config file of at most"));
+  EXPECT_THAT(ErrorOf(file), HasSubstr("expected a YAML config file of at most"));
 }
 
 }  // namespace

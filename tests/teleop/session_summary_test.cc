@@ -33,5 +33,18 @@ TEST(SessionSummaryTest, CountsRefusedSetPointsByReasonFromTheRecords) {
   EXPECT_EQ(s.at("follower_ticks"), 50);
 }
 
+TEST(SessionSummaryTest, AHugeValueStaysOneShortCell) {
+  SessionSummary summary(SummaryOptions{});
+  LeaderTickRecord r;
+  r.q_OH = {1, 0, 0, 0};
+  r.q_goal = r.q_sent = r.q_OH;
+  r.f_O = {1e300, 0, 0};  // "%.4f" printed 301 digits before the point (and snprintf cut the rest at its buffer)
+  summary.AddLeader(r);
+  const std::string& csv = summary.leader_csv();
+  const std::string row = csv.substr(csv.find('\n') + 1);
+  EXPECT_NE(row.find(",1.0000000000000001e+300,"), std::string::npos) << row;
+  EXPECT_LT(row.size(), 400u) << row;
+}
+
 }  // namespace
 }  // namespace robossis::teleop
