@@ -200,7 +200,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     std::printf("atlas: %zu dexterous and %zu rotational slices in %s\n", atlas.dexterous().size(),
                 atlas.rotational().size(), at->out.c_str());
     if (error_samples > 0) {
-      std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", options.samples);
+      std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", error_samples);
       geometry::AtlasErrorOptions options;
       options.samples = error_samples;
       json err = AtlasErrorJson(geometry::MeasureAtlasError(rsr, sigma7, atlas, options));
@@ -210,7 +210,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                   err["rotational_deg"]["off_grid"]["p95"].get<double>(),
                   err["rotational_deg"]["off_grid"]["max"].get<double>());
       std::fprintf(stderr, "measuring the live-slice error at clinical speeds (%d poses per family)...\n",
-                   options.samples);
+                   error_samples);
       const geometry::LiveBoundaryOptions live = ConfiguredLiveOptions(context);
       err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, options.samples), live);
       const json& l = err["live"];

@@ -21,12 +21,15 @@ using robossis::testing::Robossis;
 
 class HostileGeometryTest : public robossis::testing::HostileCliTest {
  protected:
-  // A copy of data/config with `from` replaced by `to` in rsr.yaml.
+  // A copy of data/config (made by the test's first call; later calls edit the same copy) with `from` replaced by
+  // `to` in rsr.yaml.
   fs::path DataDirWithRsr(const std::string& from, const std::string& to) const {
     const fs::path data = dir_ / "data";
-    fs::create_directories(data / "config");
-    for (const auto& e : fs::directory_iterator(fs::path(ROBOSSIS_SOURCE_DIR) / "data" / "config")) {
-      fs::copy_file(e.path(), data / "config" / e.path().filename(), fs::copy_options::overwrite_existing);
+    if (!fs::exists(data / "config")) {
+      fs::create_directories(data / "config");
+      for (const auto& e : fs::directory_iterator(fs::path(ROBOSSIS_SOURCE_DIR) / "data" / "config")) {
+        fs::copy_file(e.path(), data / "config" / e.path().filename());
+      }
     }
     std::string text = Read(data / "config" / "rsr.yaml");
     const std::size_t at = text.find(from);
@@ -78,13 +81,15 @@ TEST_F(HostileGeometryTest, ArmsCloserThan30DegreesAreRefused) {
   ExpectError(Robossis("--data-dir " + Q(close) + " robot ik --pose 0,0,284,0,0,0"),
               "arms 1 and 2 are 10 deg apart");
   // Across the 360 deg wrap: 350 and 10 are 20 deg apart.
-  const fs::path wrap = DataDirWithRsr("arm_angles_deg: [-30, 90, 210]", "arm_angles_deg: [350, 130, 10]");
+  const fs::path wrap = DataDirWithRsr("arm_angles_deg: [80, 90, 100]", "arm_angles_deg: [350, 130, 10]");
   ExpectError(Robossis("--data-dir " + Q(wrap) + " robot info"), "arms 1 and 3 are 20 deg apart");
 }
 
 TEST_F(HostileGeometryTest, ANearSingularHomePoseIsRefused) {
-  // Arms 30 deg apart pass the separation check, but the ring is then nearly free to turn at home.
-  const fs::path data = DataDirWithRsr("arm_angles_deg: [-30, 90, 210]", "arm_angles_deg: [0, 30, 60]");
+  // A moving ring of 0.1 mm radius (cones widened so that home stays inside the limits): the legs meet at one point
+  // and the ring is nearly free to turn about it (condition number 4.4e4).
+  fs::path data = DataDirWithRsr("moving_ring_radius_m: 0.200", "moving_ring_radius_m: 0.0001");
+  data = DataDirWithRsr("spherical_cone_max_deg: 25", "spherical_cone_max_deg: 60");
   ExpectError(Robossis("--data-dir " + Q(data) + " robot info"), "home_pose: the Jacobian's condition number");
 }
 
@@ -139,7 +144,7 @@ TEST_F(HostileGeometryTest, HugeOrNonFiniteWrenchesAreRefused) {
   const std::string statics = "robot statics --pose 0,0,284,0,0,0 --wrench ";
   ExpectError(Robossis(statics + "0,0,1e308,0,0,0"), "--wrench: FZ_N is 1e+308; expected a finite force");
   ExpectError(Robossis(statics + "1e308,1e308,-1e308,1e308,0,0"), "--wrench: FX_N");
-  ExpectError(Robossis(statics + "0,0,0,0,0,2e5"), "TZ_NM is 2e+05; expected a finite moment within +/-1e+05");
+  ExpectError(Robossis(statics + "0,0,0,0,0,2e5"), "TZ_NM is 200000; expected a finite moment within +/-100000 N m");
   ExpectError(Robossis(statics + "0,0,inf,0,0,0"), "--wrench");
   const CommandRun ok = Robossis(statics + "0,0,-517,0,0,0 --json", false);
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
