@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "src/core/units.h"
 
@@ -53,6 +56,16 @@ double Uniform(std::mt19937& gen, const GridAxis& a, bool on_grid) {
 
 }  // namespace
 
+int RequireErrorSamples(double samples, const std::string& option) {
+  if (!(samples >= 0 && samples <= kMaxErrorSamples) || samples != std::floor(samples)) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", samples);
+    throw std::invalid_argument(option + ": expected an integer from 0 to " + std::to_string(kMaxErrorSamples) +
+                                " samples, got " + got);
+  }
+  return static_cast<int>(samples);
+}
+
 ErrorStats SummariseErrors(std::vector<double> e, int not_found, int sign_disagreements) {
   ErrorStats s;
   s.samples = static_cast<int>(e.size());
@@ -71,6 +84,7 @@ ErrorStats SummariseErrors(std::vector<double> e, int not_found, int sign_disagr
 
 AtlasErrorReport MeasureAtlasError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc,
                                    const BoundaryAtlas& atlas, const AtlasErrorOptions& o) {
+  RequireErrorSamples(o.samples, "atlas error samples");
   AtlasErrorReport report;
   std::mt19937 gen{o.seed};
   SignedDistanceQuery query;
@@ -99,6 +113,7 @@ AtlasErrorReport MeasureAtlasError(const robot::RsrModel& rsr, const robot::Sigm
 
 LiveErrorReport MeasureLiveError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const AtlasSpec& range,
                                  const LiveBoundaryOptions& live_options, const LiveErrorOptions& o) {
+  RequireErrorSamples(o.samples, "live error samples");
   LiveErrorReport report;
   LiveBoundary live(rsr, hc, live_options);
   std::mt19937 gen{o.seed};
@@ -146,6 +161,7 @@ ClinicalLiveError MeasureClinicalLiveError(const robot::RsrModel& rsr, const rob
 
 ErrorStats MeasureSliceError(const robot::RsrModel& rsr, const robot::Sigma7Model& hc, const WorkspaceSlice& slice,
                              int samples, std::uint32_t seed) {
+  RequireErrorSamples(samples, "slice error samples");
   std::mt19937 gen{seed};
   const BoundaryDistanceField field(slice.mesh);
   const SliceFeasibility truth(rsr, hc, slice.spec.kind, slice.spec.fixed);

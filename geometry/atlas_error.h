@@ -4,6 +4,7 @@
 // (reference_distance.h; independent of every mesh). The same measure at on-grid poses isolates the mesh error.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "geometry/boundary_atlas.h"
@@ -11,6 +12,14 @@
 #include "geometry/reference_distance.h"
 
 namespace robossis::geometry {
+
+// The most error samples one measurement takes (per family and case). Each sample runs the reference search (400
+// directions of IK marching, ~1 ms), so 100 000 samples are already minutes; more is a typo or a hostile input.
+inline constexpr int kMaxErrorSamples = 100000;
+// The count as an int; throws std::invalid_argument "OPTION: expected an integer from 0 to 100000 samples, got N"
+// unless `samples` is a whole number in [0, kMaxErrorSamples] (a double, so 1e12 or -5 at the command line reaches
+// this check instead of overflowing).
+int RequireErrorSamples(double samples, const std::string& option);
 
 struct ErrorStats {
   int samples = 0;

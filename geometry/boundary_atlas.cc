@@ -2,6 +2,7 @@
 
 #include "geometry/boundary_atlas.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -18,7 +19,8 @@ namespace robossis::geometry {
 namespace {
 
 constexpr const char* kFormat = "robossis-boundary-atlas";
-constexpr int kVersion = 2;  // 2: standard FNV-1a offset basis, geometry fingerprint
+// 2: standard FNV-1a offset basis, geometry fingerprint; 3: every grid node listed, empty ones too ("empty")
+constexpr int kVersion = 3;
 
 std::uint64_t Fnv1a64(const std::string& bytes) {
   std::uint64_t h = 14695981039346656037ull;  // the FNV-1a 64-bit offset basis
@@ -120,9 +122,10 @@ void BoundaryAtlas::RequireBuiltFor(const robot::RsrModel& rsr, const robot::Sig
 }
 
 namespace {
-bool Covers(const std::array<GridAxis, 3>& g, const Eigen::Vector3d& x) {
+bool Covers(const std::array<GridAxis, 3>& g, const Eigen::Vector3d& x, double max_half_step) {
   for (int k = 0; k < 3; ++k) {
-    const double half = 0.5 * g[k].step;  // a one-node axis keeps the step it was declared with
+    // A one-node axis has no step to speak of (its declared step is a placeholder): only the cap applies.
+    const double half = g[k].count > 1 ? std::min(0.5 * g[k].step, max_half_step) : max_half_step;
     if (!(x[k] >= g[k].min - half && x[k] <= g[k].max() + half)) return false;
   }
   return true;
@@ -130,10 +133,20 @@ bool Covers(const std::array<GridAxis, 3>& g, const Eigen::Vector3d& x) {
 }  // namespace
 
 bool BoundaryAtlas::CoversOrientation(const Eigen::Vector3d& rpy_rad) const noexcept {
-  return Covers(spec_.orientation_grid, rpy_rad);
+  return Covers(spec_.orientation_grid, rpy_rad, kMaxCoverageHalfStepRad);
 }
 bool BoundaryAtlas::CoversPosition(const Eigen::Vector3d& p_FM_m) const noexcept {
-  return Covers(spec_.position_grid, p_FM_m);
+  return Covers(spec_.position_grid, p_FM_m, kMaxCoverageHalfStepM);
+}
+
+void MarkOffGrid(const BoundaryAtlas* atlas, const Eigen::Isometry3d& X_FM, PoseBoundaryResult* r) noexcept {
+  if (atlas == nullptr) return;
+  if (r->live_dexterous_slice == nullptr && !atlas->CoversOrientation(RpyFromRotation(X_FM.linear()))) {
+    r->translation.status = QueryStatus::kOffGrid;
+  }
+  if (r->live_rotational_slice == nullptr && !atlas->CoversPosition(X_FM.translation())) {
+    r->rotation.status = QueryStatus::kOffGrid;
+  }
 }
 
 int GridAxis::Nearest(double x) const noexcept {
@@ -267,14 +280,21 @@ BoundaryAtlas BuildAtlasIn(const robot::RsrModel& rsr, const robot::Sigma7Model&
             empty = true;  // the node's pose is unreachable: no slice (documented in the manifest)
           }
           if (progress) progress(++done, total);
-          if (empty || slice.mesh.triangles.empty()) continue;
+          const Eigen::Vector3d fixed = s.fixed * (dexterous ? kRadToDeg : kMToMm);
+          const char* fixed_key = dexterous ? "rpy_deg" : "position_mm";
+          if (empty || slice.mesh.triangles.empty()) {
+            // Listed all the same, so the manifest names every node and a truncated one is detectable.
+            entries[family].push_back({{"node", {i, j, k}}, {fixed_key, {fixed.x(), fixed.y(), fixed.z()}},
+                                       {"empty", true}});
+            continue;
+          }
           const std::string file = std::string(dexterous ? "dexterous/d_" : "rotational/r_") + std::to_string(i) +
                                    "_" + std::to_string(j) + "_" + std::to_string(k) + ".ply";
           const std::string bytes = BinaryPlyBytes(slice.mesh, scale);
           WriteFileAtomically(dir / file, bytes);
-          const Eigen::Vector3d fixed = s.fixed * (dexterous ? kRadToDeg : kMToMm);
           entries[family].push_back({{"node", {i, j, k}},
-                                     {dexterous ? "rpy_deg" : "position_mm", {fixed.x(), fixed.y(), fixed.z()}},
+                                     {fixed_key, {fixed.x(), fixed.y(), fixed.z()}},
+                                     {"empty", false},
                                      {"file", file},
                                      {"bytes", bytes.size()},
                                      {"fnv1a64", Hex(Fnv1a64(bytes))},
@@ -308,9 +328,13 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
   const std::string where = manifest_file.string();
   try {
     const nlohmann::json m = nlohmann::json::parse(ReadTextFile(manifest_file));
-    if (m.at("format").get<std::string>() != kFormat || JsonInteger<int>(m.at("version"), "version") != kVersion) {
-      throw std::runtime_error("format/version is not " + std::string(kFormat) + " " + std::to_string(kVersion) +
-                               " (an atlas of an older version: rebuild it with `robossis workspace atlas`)");
+    if (m.at("format").get<std::string>() != kFormat) {
+      throw std::runtime_error("format: expected \"" + std::string(kFormat) + "\" (not an atlas)");
+    }
+    const int version = JsonInteger<int>(m.at("version"), "version");
+    if (version != kVersion) {
+      throw std::runtime_error("version " + std::to_string(version) + ": expected " + std::to_string(kVersion) +
+                               " (an atlas of another version: rebuild the atlas with `robossis workspace atlas`)");
     }
     AtlasSpec spec;
     spec.orientation_grid = GridFromJson(m.at("orientation_grid"), kRadToDeg, "orientation_grid");
@@ -323,7 +347,36 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
       const bool dexterous = family == 0;
       const SliceKind kind = dexterous ? SliceKind::kRsrDexterous : SliceKind::kRsrRotational;
       const auto& g = dexterous ? spec.orientation_grid : spec.position_grid;
-      for (const nlohmann::json& e : m.at(dexterous ? "dexterous_slices" : "rotational_slices")) {
+      const char* list = dexterous ? "dexterous_slices" : "rotational_slices";
+      const nlohmann::json& entries = m.at(list);
+      if (!entries.is_array()) throw std::runtime_error(std::string(list) + ": expected an array");
+      // Every node of the grid exactly once (empty ones too): a manifest that lists fewer is partial. Counted before
+      // anything is allocated for the grid.
+      const std::size_t nodes = static_cast<std::size_t>(NodeCount(g));
+      if (entries.size() != nodes) {
+        throw std::runtime_error(std::string(list) + ": lists " + std::to_string(entries.size()) + " of the grid's " +
+                                 std::to_string(nodes) +
+                                 " nodes; expected every node (a partial manifest: rebuild the atlas with "
+                                 "`robossis workspace atlas`)");
+      }
+      std::vector<char> listed(nodes, 0);
+      std::size_t listed_count = 0;
+      for (const nlohmann::json& e : entries) {
+        const auto node = e.at("node");
+        const std::string node_name = std::string(list) + "[" + std::to_string(listed_count) + "].node";
+        const Eigen::Vector3i n(JsonInteger<int>(node.at(0), node_name), JsonInteger<int>(node.at(1), node_name),
+                                JsonInteger<int>(node.at(2), node_name));
+        for (int k = 0; k < 3; ++k) {
+          if (n[k] < 0 || n[k] >= g[k].count) throw std::runtime_error(node_name + ": node outside the grid");
+        }
+        char& seen = listed[static_cast<std::size_t>(Flat(g, n))];
+        if (seen) {
+          throw std::runtime_error(node_name + ": node (" + std::to_string(n.x()) + ", " + std::to_string(n.y()) +
+                                   ", " + std::to_string(n.z()) + ") listed twice");
+        }
+        seen = 1;
+        ++listed_count;
+        if (e.at("empty").get<bool>()) continue;
         const std::string file = e.at("file").get<std::string>();
         if (file.find("..") != std::string::npos || file.empty() || file.front() == '/') {
           throw std::runtime_error("slice file '" + file + "' is not a relative path inside the atlas");
@@ -335,15 +388,7 @@ BoundaryAtlas BoundaryAtlas::Load(const std::filesystem::path& dir) {
         }
         AtlasSlice a;
         a.kind = kind;
-        const auto node = e.at("node");
-        const std::string node_name = "slice '" + file + "': node";
-        a.node = Eigen::Vector3i(JsonInteger<int>(node.at(0), node_name), JsonInteger<int>(node.at(1), node_name),
-                                 JsonInteger<int>(node.at(2), node_name));
-        for (int k = 0; k < 3; ++k) {
-          if (a.node[k] < 0 || a.node[k] >= g[k].count) {
-            throw std::runtime_error("slice '" + file + "': node outside the grid");
-          }
-        }
+        a.node = n;
         a.fixed = NodeValue(g, a.node);
         a.field =
             std::make_shared<BoundaryDistanceField>(ParseBinaryPly(bytes, EdgeUnitScale(kind), (dir / file).string()));

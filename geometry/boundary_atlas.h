@@ -12,7 +12,8 @@
 //   DIR/rotational/r_I_J_K.ply     binary PLY, degrees (roll, pitch, yaw)
 // An atlas is built in a staging folder and moved into place whole (StagedOutputDir); Load() checks every file's
 // size and hash against the manifest, so a partial or corrupt atlas never loads (it throws, naming the file).
-// Grid nodes where the slice is empty (the pose is unreachable everywhere) have no file and no slice.
+// Grid nodes where the slice is empty (the pose is unreachable everywhere) have no file and no slice; the manifest
+// still lists them ("empty": true), so it names every node of its grids and Load() refuses one that does not.
 
 #include <array>
 #include <filesystem>
@@ -26,8 +27,16 @@
 
 #include "geometry/signed_distance.h"
 #include "geometry/workspace_slice.h"
+#include "src/core/units.h"
 
 namespace robossis::geometry {
+
+// How far beyond the end nodes of its grid an atlas answers, per axis: half a step, but never more than these
+// (assumptions, not in the paper). The nearest-node error grows by about 1 mm per degree of orientation and 0.2 deg
+// per mm of position (README "Boundary error"), so a node farther than 5 deg / 15 mm is off by several mm / deg;
+// without the cap a coarse grid (or a one-node axis, whose step means nothing) would claim to cover far poses.
+inline constexpr double kMaxCoverageHalfStepRad = 5.0 * robossis::kDegToRad;
+inline constexpr double kMaxCoverageHalfStepM = 0.015;
 
 // One axis of a regular grid: count nodes at min + step * i (SI units: rad or m).
 struct GridAxis {
@@ -73,8 +82,9 @@ class BoundaryAtlas {
   const std::string& fingerprint() const { return fingerprint_; }
   void set_fingerprint(std::string fingerprint) { fingerprint_ = std::move(fingerprint); }
 
-  // Whether the nearest grid node is within half a grid step of rpy / p_FM on every axis: beyond that the pose is
-  // off the grid and the nearest node's slice is not an answer for it.
+  // Whether rpy / p_FM lies on the grid or within its margin past the end nodes on every axis: half a step, at
+  // most kMaxCoverageHalfStepRad / kMaxCoverageHalfStepM (a one-node axis: the cap). Beyond that the pose is off
+  // the grid and the nearest node's slice is not an answer for it.
   bool CoversOrientation(const Eigen::Vector3d& rpy_rad) const noexcept;
   bool CoversPosition(const Eigen::Vector3d& p_FM_m) const noexcept;
 
@@ -134,6 +144,10 @@ struct PoseBoundaryResult {
   const LiveSlice* live_dexterous_slice = nullptr;
   const LiveSlice* live_rotational_slice = nullptr;
 };
+
+// Sets the status of each family of `r` that the atlas answered (no live slice did) to kOffGrid when `atlas` does
+// not cover the pose (CoversOrientation / CoversPosition); a null atlas marks nothing. Allocation-free, noexcept.
+void MarkOffGrid(const BoundaryAtlas* atlas, const Eigen::Isometry3d& X_FM, PoseBoundaryResult* r) noexcept;
 
 // Real-time pose query: one per thread. Allocation-free and noexcept.
 class AtlasPoseQuery {

@@ -75,6 +75,7 @@ const char* ToString(QueryStatus status) {
     case QueryStatus::kNoField: return "no_field";
     case QueryStatus::kNonFinite: return "non_finite";
     case QueryStatus::kFclFailure: return "fcl_failure";
+    case QueryStatus::kOffGrid: return "off_grid";
   }
   return "unknown";
 }

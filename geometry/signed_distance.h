@@ -37,6 +37,7 @@ enum class QueryStatus : std::uint8_t {
   kNoField,     // null field pointer (e.g. the atlas has no slice for this pose)
   kNonFinite,   // the query point or radius is NaN/inf, or the radius is negative
   kFclFailure,  // the tree search found no closest triangle (cannot happen for a valid field; reported, not thrown)
+  kOffGrid,     // the pose lies beyond the atlas grid (boundary_atlas.h, MarkOffGrid): no atlas node answers for it
 };
 const char* ToString(QueryStatus status);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
 
 #include <Eigen/LU>
 
@@ -167,6 +169,20 @@ RsrStaticsResult CalcActuatorEfforts(const RsrModel& model, const Eigen::Isometr
   out.rotary_torque_nm = Q.head<3>();
   out.linear_force_n = Q.tail<3>();
   return out;
+}
+
+void RequireBoundedWrench(const Vector6d& w, const std::string& where) {
+  static const char* const kNames[6] = {"FX_N", "FY_N", "FZ_N", "TX_NM", "TY_NM", "TZ_NM"};
+  for (int k = 0; k < 6; ++k) {
+    const bool force = k < 3;
+    const double bound = force ? kMaxWrenchForceN : kMaxWrenchTorqueNm;
+    if (!(std::abs(w[k]) <= bound)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%s is %g; expected a finite %s within +/-%g %s", kNames[k], w[k],
+                    force ? "force" : "moment", bound, force ? "N" : "N m");
+      throw std::invalid_argument(where + ": " + text);
+    }
+  }
 }
 
 }  // namespace robossis::robot

@@ -6,6 +6,7 @@
 // Every function here is allocation-free and noexcept: they run inside real-time ticks.
 
 #include <array>
+#include <string>
 
 #include "robot/rsr_model.h"
 #include "src/core/pose.h"
@@ -97,5 +98,14 @@ struct RsrStaticsResult {
 };
 RsrStaticsResult CalcActuatorEfforts(const RsrModel& model, const Eigen::Isometry3d& X_FM,
                                      const Vector6d& wrench_ext_F) noexcept;
+
+// The largest external wrench component the statics accept (assumptions, not in the paper): 1e6 N and 1e5 N·m are
+// three to four orders of magnitude above any load on a femur (muscle traction is ~0.5 kN; the paper's test 517 N),
+// and far enough below DBL_MAX that Q = -J^-T W stays finite at any pose the Jacobian is invertible at.
+inline constexpr double kMaxWrenchForceN = 1e6;
+inline constexpr double kMaxWrenchTorqueNm = 1e5;
+// Throws std::invalid_argument "WHERE: FZ_N is 1e+308; expected a finite force within +/-1e+06 N" unless every
+// component of W = [F; M] is finite and within the bounds above.
+void RequireBoundedWrench(const Vector6d& wrench_ext_F, const std::string& where);
 
 }  // namespace robossis::robot

@@ -1,8 +1,13 @@
 #include "robot/rsr_model.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
+
+#include <Eigen/SVD>
 
 #include "robot/rsr_kinematics.h"
 #include "src/core/config.h"
@@ -11,6 +16,11 @@
 namespace robossis::robot {
 
 namespace {
+std::string FormatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
 void Require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("RSR geometry: " + message);
 }
@@ -25,6 +35,16 @@ RsrModel::RsrModel(const RsrGeometry& geometry) : geometry_(geometry) {
     const double g = geometry_.arm_angles_rad[i];
     rotary_axis_F_[i] = Eigen::Vector3d(std::cos(g), std::sin(g), 0.0);
     tangent_axis_F_[i] = Eigen::Vector3d(-std::sin(g), std::cos(g), 0.0);
+  }
+  for (int i = 0; i < kNumArms; ++i) {
+    for (int j = i + 1; j < kNumArms; ++j) {
+      const double d = std::fmod(std::abs(geometry_.arm_angles_rad[i] - geometry_.arm_angles_rad[j]), 2 * kPi);
+      const double separation = std::min(d, 2 * kPi - d);
+      Require(separation >= kMinArmSeparationRad - 1e-12,
+              "geometry.arm_angles_deg: arms " + std::to_string(i + 1) + " and " + std::to_string(j + 1) + " are " +
+                  FormatNumber(RadToDeg(separation)) + " deg apart; expected at least " +
+                  FormatNumber(RadToDeg(kMinArmSeparationRad)) + " deg (closer arms make the ring's pose degenerate)");
+    }
   }
   Require(lim.stroke_min_m > 0 && lim.stroke_min_m < lim.stroke_max_m,
           "limits.stroke_min_m must be positive and below limits.stroke_max_m");
@@ -41,6 +61,16 @@ RsrModel::RsrModel(const RsrGeometry& geometry) : geometry_(geometry) {
     throw std::invalid_argument("RSR geometry: the home pose violates the " + std::string(ToString(worst.joint)) +
                                 " limit of arm " + std::to_string(worst.arm + 1));
   }
+  const Matrix6d J = CalcJacobian(*this, geometry_.X_FM_home);
+  double condition = std::numeric_limits<double>::infinity();
+  if (J.allFinite()) {
+    const Eigen::JacobiSVD<Matrix6d> svd(J);
+    const auto& sv = svd.singularValues();
+    if (sv(5) > 0) condition = sv(0) / sv(5);
+  }
+  Require(condition <= kMaxHomeJacobianCondition,
+          "home_pose: the Jacobian's condition number there is " + FormatNumber(condition) + "; expected at most " +
+              FormatNumber(kMaxHomeJacobianCondition) + " (a near-singular home pose)");
 }
 
 RsrModel RsrModel::FromYaml(const std::filesystem::path& file) {

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "src/core/pose.h"
+#include "src/core/units.h"
 
 namespace robossis {
 class ConfigNode;
@@ -20,6 +21,14 @@ class ConfigNode;
 namespace robossis::robot {
 
 inline constexpr int kNumArms = 3;
+
+// Geometry the model refuses as degenerate (assumptions, not in the paper). Arms closer than 30 deg on the rings
+// (the paper's are 120 deg apart) leave the moving ring nearly unconstrained about some axis: the Jacobian is
+// (near-)singular and IK, FK and statics give NaN or huge values. A home-pose Jacobian condition number above 1000
+// (2-norm, rows in rad/s and m/s, columns in m/s and rad/s; the shipped geometry passes) means the same: an
+// effort or velocity error is amplified a thousandfold there.
+inline constexpr double kMinArmSeparationRad = 30.0 * kDegToRad;
+inline constexpr double kMaxHomeJacobianCondition = 1000.0;
 
 // Joint limits, SI. All are inequalities that a feasible pose satisfies with a non-negative margin.
 struct RsrLimits {

@@ -143,17 +143,19 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
   auto st_json = std::make_shared<bool>(false);
   st_pose->Add(statics);
   statics->add_option("--wrench", *st_wrench, "External wrench on the moving ring at P, in the fixed frame: "
-                                              "FX_N,FY_N,FZ_N,TX_NM,TY_NM,TZ_NM")
+                                              "FX_N,FY_N,FZ_N,TX_NM,TY_NM,TZ_NM; forces within +/-1e6 N, moments within +/-1e5 N m")
       ->required();
   statics->add_flag("--json", *st_json, "Machine-readable output");
   statics->callback([&context, st_pose, st_wrench, st_json] {
     const Eigen::Isometry3d X_FM = st_pose->Parse();
     const std::vector<double> w = ParseNumberList(*st_wrench, 6, "--wrench", "FX_N,FY_N,FZ_N,TX_NM,TY_NM,TZ_NM");
+    const Vector6d wrench = Eigen::Map<const Vector6d>(w.data());
+    robot::RequireBoundedWrench(wrench, "--wrench");
     const robot::RsrModel model = context.LoadRsr();
-    const robot::RsrStaticsResult result =
-        robot::CalcActuatorEfforts(model, X_FM, Eigen::Map<const Vector6d>(w.data()));
+    const robot::RsrStaticsResult result = robot::CalcActuatorEfforts(model, X_FM, wrench);
     if (result.singular) throw std::runtime_error("--pose: the Jacobian is singular there; no static solution");
     const json doc = RsrStaticsJson(result);
+    RequireFiniteResult(doc, "robot statics --pose " + st_pose->text);
     if (*st_json) {
       PrintJson(doc);
     } else {

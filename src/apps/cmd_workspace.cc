@@ -71,7 +71,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   struct DexterousOptions {
     std::string rpy = "0,0,0", out;
     double resolution_mm = 2;
-    int error_samples = 0;
+    double error_samples = 0;
   };
   auto dex = std::make_shared<DexterousOptions>();
   CLI::App* d = ws->add_subcommand("dexterous", "RSR dexterous workspace (positions of P in F) at a fixed orientation\n"
@@ -80,9 +80,11 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   d->add_option("--resolution-mm", dex->resolution_mm, "Grid spacing (mm)")->capture_default_str();
   d->add_option("--out", dex->out, "Output folder: mesh.stl, mesh.ply (mm), summary.json")->required();
   d->add_option("--error-samples", dex->error_samples,
-                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
+                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json); "
+                "0 to " + std::to_string(geometry::kMaxErrorSamples))
       ->capture_default_str();
   d->callback([&context, dex] {
+    const int error_samples = geometry::RequireErrorSamples(dex->error_samples, "--error-samples");
     const OutputPolicy output = context.Output();
     output.CheckFolder("--out", dex->out);
     geometry::SliceSpec spec;
@@ -95,9 +97,9 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
     json summary = SliceSummaryJson(slice);
-    if (dex->error_samples > 0) {
+    if (error_samples > 0) {
       summary["error_vs_reference_mm"] =
-          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, dex->error_samples, 42), kMToMm);
+          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, error_samples, 42), kMToMm);
     }
     out.Write("summary.json", summary.dump(2) + "\n");
     out.Commit();
@@ -108,7 +110,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   struct RotationalOptions {
     std::string position, out;
     double resolution_deg = 1;
-    int error_samples = 0;
+    double error_samples = 0;
   };
   auto rot = std::make_shared<RotationalOptions>();
   CLI::App* r = ws->add_subcommand("rotational", "RSR rotational workspace (roll, pitch, yaw) at a fixed position\n"
@@ -117,9 +119,11 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   r->add_option("--resolution-deg", rot->resolution_deg, "Grid spacing (deg)")->capture_default_str();
   r->add_option("--out", rot->out, "Output folder: mesh.stl, mesh.ply (deg), summary.json")->required();
   r->add_option("--error-samples", rot->error_samples,
-                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json)")
+                "Points near the boundary at which the mesh query is compared with the IK reference (summary.json); "
+                "0 to " + std::to_string(geometry::kMaxErrorSamples))
       ->capture_default_str();
   r->callback([&context, rot] {
+    const int error_samples = geometry::RequireErrorSamples(rot->error_samples, "--error-samples");
     const OutputPolicy output = context.Output();
     output.CheckFolder("--out", rot->out);
     const robot::RsrModel rsr = context.LoadRsr();
@@ -133,9 +137,9 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const geometry::WorkspaceSlice slice = geometry::GenerateSlice(rsr, sigma7, spec);
     WriteSlice(out, slice, "mesh");
     json summary = SliceSummaryJson(slice);
-    if (rot->error_samples > 0) {
+    if (error_samples > 0) {
       summary["error_vs_reference_deg"] =
-          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, rot->error_samples, 42), kRadToDeg);
+          ErrorStatsJson(geometry::MeasureSliceError(rsr, sigma7, slice, error_samples, 42), kRadToDeg);
     }
     out.Write("summary.json", summary.dump(2) + "\n");
     out.Commit();
@@ -181,7 +185,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
   struct AtlasOptions {
     std::string out;
     bool coarse = false;
-    int error_samples = 40;
+    double error_samples = 40;
   };
   auto at = std::make_shared<AtlasOptions>();
   CLI::App* a = ws->add_subcommand("atlas", "Precompute the boundary atlas (dexterous slices over orientations, "
@@ -193,13 +197,11 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
       ->required();
   a->add_flag("--coarse", at->coarse, "A small, coarse atlas (seconds; for tests and trials)");
   a->add_option("--error-samples", at->error_samples,
-                "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip)")
+                "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip); at most " +
+                    std::to_string(geometry::kMaxErrorSamples))
       ->capture_default_str();
   a->callback([&context, at] {
-    if (at->error_samples < 0 || at->error_samples > 100000) {
-      throw std::invalid_argument("--error-samples: expected 0 to 100000 poses per case, got " +
-                                  std::to_string(at->error_samples));
-    }
+    const int error_samples = geometry::RequireErrorSamples(at->error_samples, "--error-samples");
     const OutputPolicy output = context.Output();
     output.CheckFolder("--out", at->out);
     // Every config is read before the build, so a bad one is refused before minutes of work.
@@ -212,10 +214,10 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const geometry::BoundaryAtlas atlas = geometry::BuildAtlasIn(rsr, sigma7, spec, out.staging(), ProgressBar{});
     std::fprintf(stderr, "atlas: %zu dexterous and %zu rotational slices built\n", atlas.dexterous().size(),
                  atlas.rotational().size());
-    if (at->error_samples > 0) {
-      std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", at->error_samples);
+    if (error_samples > 0) {
+      std::fprintf(stderr, "measuring the grid-spacing error (%d poses per case)...\n", error_samples);
       geometry::AtlasErrorOptions options;
-      options.samples = at->error_samples;
+      options.samples = error_samples;
       json err = AtlasErrorJson(geometry::MeasureAtlasError(rsr, sigma7, atlas, options));
       std::printf("grid-spacing error (off-grid poses): dexterous p95 %.3f mm, max %.3f mm; rotational p95 %.3f "
                   "deg, max %.3f deg\n",
@@ -223,8 +225,8 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
                   err["rotational_deg"]["off_grid"]["p95"].get<double>(),
                   err["rotational_deg"]["off_grid"]["max"].get<double>());
       std::fprintf(stderr, "measuring the live-slice error at clinical speeds (%d poses per family)...\n",
-                   at->error_samples);
-      err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, at->error_samples), live);
+                   error_samples);
+      err["live"] = LiveErrorJson(geometry::MeasureClinicalLiveError(rsr, sigma7, spec, live, error_samples), live);
       const json& l = err["live"];
       std::printf("live slices (refreshed at the pose; %.3f s + %.3f s per refresh; staleness %.3f deg / %.2f mm at "
                   "2 mm/s, 0.2 deg/s): dexterous p95 %.3f mm, max %.3f mm; rotational p95 %.3f deg, max %.3f deg\n",
@@ -281,12 +283,13 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
       query.Query(atlas, X_FM, MmToM(qo->radius_mm), DegToRad(qo->radius_deg), &r);
     }
     auto triple = [](const Eigen::Vector3d& v, double s) { return json::array({v.x() * s, v.y() * s, v.z() * s}); };
-    // A pose beyond half a grid step of the atlas grid is answered by no node: its nearest (clamped) node's slice
-    // belongs to another pose. Reported as "off_grid", never "ok".
-    const bool t_off = r.live_dexterous_slice == nullptr && !atlas.CoversOrientation(RpyFromRotation(X_FM.linear()));
-    const bool r_off = r.live_rotational_slice == nullptr && !atlas.CoversPosition(X_FM.translation());
-    const bool t_ok = !t_off && r.translation.status == geometry::QueryStatus::kOk;
-    const bool r_ok = !r_off && r.rotation.status == geometry::QueryStatus::kOk;
+    // A pose off the atlas grid is answered by no node: its nearest (clamped) node's slice belongs to another pose
+    // (MarkOffGrid: "off_grid", never "ok").
+    geometry::MarkOffGrid(qo->atlas.empty() ? nullptr : &atlas, X_FM, &r);
+    const bool t_off = r.translation.status == geometry::QueryStatus::kOffGrid;
+    const bool r_off = r.rotation.status == geometry::QueryStatus::kOffGrid;
+    const bool t_ok = r.translation.status == geometry::QueryStatus::kOk;
+    const bool r_ok = r.rotation.status == geometry::QueryStatus::kOk;
     json doc;
     doc["signed_distance_mm"] = t_ok ? json(r.translation.signed_distance * kMToMm) : json(nullptr);
     doc["signed_angle_deg"] = r_ok ? json(r.rotation.signed_distance * kRadToDeg) : json(nullptr);
@@ -307,8 +310,8 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     doc["rotational_slice_position_mm"] = rotational_at ? triple(*rotational_at, kMToMm) : json(nullptr);
     doc["live"] = {{"translation", r.live_dexterous_slice != nullptr},
                    {"rotation", r.live_rotational_slice != nullptr}};
-    doc["status"] = {{"translation", t_off ? "off_grid" : geometry::ToString(r.translation.status)},
-                     {"rotation", r_off ? "off_grid" : geometry::ToString(r.rotation.status)}};
+    doc["status"] = {{"translation", geometry::ToString(r.translation.status)},
+                     {"rotation", geometry::ToString(r.rotation.status)}};
     if (qo->json_out) {
       PrintJson(doc);
     } else {

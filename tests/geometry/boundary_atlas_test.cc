@@ -152,6 +152,38 @@ TEST(AtlasSpecTest, InvalidGridIsRejected) {
   EXPECT_THROW(s.Validate(), std::invalid_argument);
 }
 
+// A one-node axis (coarse: pitch 0, position y and z at home) covers only the cap, not its placeholder step.
+TEST_F(AtlasTest, CoverageBeyondTheEndNodesIsCappedAt5DegAnd15Mm) {
+  const BoundaryAtlas atlas = BoundaryAtlas::Load(*dir_);
+  const Eigen::Vector3d home = robot::RsrModel::Default().geometry().X_FM_home.translation();
+  EXPECT_TRUE(atlas.CoversOrientation({0, DegToRad(4.9), 0}));
+  EXPECT_FALSE(atlas.CoversOrientation({0, DegToRad(5.1), 0}));
+  EXPECT_TRUE(atlas.CoversPosition(home + Eigen::Vector3d(0, 0, 0.0149)));
+  EXPECT_FALSE(atlas.CoversPosition(home + Eigen::Vector3d(0, 0, 0.0151)));
+  // Yaw -20..20 step 20 deg: half a step is 10 deg, capped to 5; inside the span every pose is covered.
+  EXPECT_TRUE(atlas.CoversOrientation({0, 0, DegToRad(10)}));
+  EXPECT_FALSE(atlas.CoversOrientation({0, 0, DegToRad(25.5)}));
+  PoseBoundaryResult r;
+  r.translation.status = r.rotation.status = QueryStatus::kOk;
+  MarkOffGrid(&atlas, PoseFromMmDeg((Vector6d() << 0, 0, 684, 0, 0, 0).finished()), &r);
+  EXPECT_EQ(r.translation.status, QueryStatus::kOk);
+  EXPECT_EQ(r.rotation.status, QueryStatus::kOffGrid);
+  EXPECT_STREQ(ToString(QueryStatus::kOffGrid), "off_grid");
+}
+
+TEST_F(AtlasTest, ManifestListsEveryNodeAndAPartialOneIsRefused) {
+  const nlohmann::json m = nlohmann::json::parse(ReadTextFile(*dir_ / "manifest.json"));
+  EXPECT_EQ(m["version"], 3);
+  EXPECT_EQ(m["dexterous_slices"].size(), 9u);
+  EXPECT_EQ(m["rotational_slices"].size(), 3u);
+  const fs::path d = Copy("partial");
+  nlohmann::json partial = m;
+  partial["rotational_slices"].erase(partial["rotational_slices"].begin());
+  WriteFileAtomically(d / "manifest.json", partial.dump());
+  EXPECT_NE(LoadError(d).find("rotational_slices: lists 2 of the grid's 3 nodes"), std::string::npos) << LoadError(d);
+  fs::remove_all(d);
+}
+
 }  // namespace
 }  // namespace robossis::geometry
 
