@@ -43,6 +43,11 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
 // given"). Throws std::invalid_argument "--rate-hz: expected a finite number in [1, 10000] Hz, got inf".
 double OptionInRange(double value, double lo, double hi, const std::string& option_name, const std::string& unit);
 
+// The --help text of the speed-cap options (--max-speed-mm-s, --max-angular-speed-deg-s): the range the caps'
+// one checker accepts (haptics/transfer/transfer_config.h) and the default.
+std::string LinearSpeedCapHelp();
+std::string AngularSpeedCapHelp();
+
 // Prints a JSON document (pretty, one trailing newline) to stdout.
 void PrintJson(const nlohmann::ordered_json& document);
 

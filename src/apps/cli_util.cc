@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "haptics/transfer/transfer_config.h"
 #include "src/apps/app_context.h"
 #include "src/core/parse.h"
 
@@ -13,6 +14,18 @@ Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& opt
   const std::vector<double> v =
       ParseNumberList(text, 6, option_name, "X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG");
   return PoseFromMmDeg(Eigen::Map<const Vector6d>(v.data()));
+}
+
+std::string LinearSpeedCapHelp() {
+  std::ostringstream os;
+  os << "Linear speed cap in (0, " << transfer::kMaxLinearSpeedCapMmS << "] mm/s (default: transfer.yaml, 10 mm/s)";
+  return os.str();
+}
+
+std::string AngularSpeedCapHelp() {
+  std::ostringstream os;
+  os << "Angular speed cap in (0, " << transfer::kMaxAngularSpeedCapDegS << "] deg/s (default: transfer.yaml, 1 deg/s)";
+  return os.str();
 }
 
 void PrintJson(const nlohmann::ordered_json& document) { std::cout << document.dump(2) << "\n"; }
