@@ -43,7 +43,6 @@ TEST_F(ValidateMoveTest, ThePeakOfTheProfileIsHeldAgainstTheCaps) {
   // Five ticks: the samples straddle the peak (at 2.5 ticks); their twists see 0.95 of it, their pose steps 0.98.
   // A 10.3 mm/s peak (over the cap's 2 % tolerance) looked like 10.1 mm/s.
   EXPECT_EQ(Check(0.0032785, 5e-4).verdict, SetPointVerdict::kTooFast);
-  EXPECT_TRUE(Check(0.0019, 3e-4).ok());  // a 9.9 mm/s peak
 }
 
 TEST_F(ValidateMoveTest, TheEndPoseIsCheckedHoweverShortTheMove) {
