@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "haptics/rendering/renderer_factory.h"
+#include "haptics/rendering/method_names.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
 
@@ -76,11 +76,10 @@ HapticsConfig HapticsConfig::FromConfig(const ConfigNode& root) {
   c.mesh_proxy.damping_fade_m = MmToM(mp.NumberInRange("damping_fade_mm", 0, 100));
   c.mesh_proxy.damping_fade_rad = DegToRad(mp.NumberInRange("damping_fade_deg", 0, 90));
   c.mesh_proxy.max_direction_step_rad = DegToRad(mp.NumberInRange("max_direction_step_deg", 0, 180));
-  c.hardware_default_method = root.String("hardware_default_method");
-  const std::vector<std::string> known = KnownMethods();
-  if (std::find(known.begin(), known.end(), c.hardware_default_method) == known.end()) {
-    throw std::runtime_error(root.file() + ": hardware_default_method: expected a rendering method name, got '" +
-                             c.hardware_default_method + "'");
+  try {
+    c.hardware_default_method = ParseMethodName(root.String("hardware_default_method"), "hardware_default_method");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(root.file() + ": " + e.what());
   }
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return c;

@@ -9,11 +9,6 @@
 
 namespace robossis::haptics {
 
-std::vector<std::string> KnownMethods() {
-  return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live",
-          "mesh-proxy", "proxy", "proxy-safe", "proxy-pc"};
-}
-
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
                                              const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
                                              std::shared_ptr<const geometry::BoundaryAtlas> atlas,
@@ -67,9 +62,8 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
                                         "proxy-pc");
     r->SetPassivity(passive);
   } else {
-    std::string known;
-    for (const std::string& m : KnownMethods()) known += (known.empty() ? "" : ", ") + m;
-    throw std::invalid_argument("--methods: unknown method '" + method + "'; known: " + known);
+    ParseMethodName(method, "rendering method");  // throws for a name that is not known
+    throw std::logic_error("rendering method '" + method + "' is known but has no renderer");
   }
   return r;
 }

@@ -22,17 +22,16 @@
 #include "geometry/boundary_atlas.h"
 #include "haptics/haptics_config.h"
 #include "haptics/rendering/haptic_types.h"
+#include "haptics/rendering/method_names.h"
 
 namespace robossis::haptics {
-
-std::vector<std::string> KnownMethods();
 
 // Where a method's background work (mesh-live: the slice refresh) runs: in simulated time through
 // HapticRenderer::StepSimulatedBackground (deterministic closed-loop simulations), or on a thread of its own (a real
 // haptic loop).
 enum class BackgroundWork { kSimulated, kThread };
 
-// Throws std::invalid_argument naming the method and listing the known ones. `atlas` is needed by "mesh" (and used
+// Throws std::invalid_argument naming the method and listing the known ones (ParseMethodName). `atlas` is needed by "mesh" (and used
 // by "mesh-live" until its first refresh).
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
                                              const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,

@@ -1,6 +1,7 @@
 #include "haptics/transfer/transfer_config.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -11,26 +12,52 @@
 namespace robossis::transfer {
 
 namespace {
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 void Require(bool ok, const std::string& field, const std::string& expected, double value) {
   if (!ok) {
-    throw std::invalid_argument("transfer config: '" + field + "': expected " + expected + ", got " +
-                                std::to_string(value));
+    throw std::invalid_argument("transfer config: '" + field + "': expected " + expected + ", got " + Num(value));
+  }
+}
+
+// Both caps' check: `shown` is the cap in the unit of the message, `max_shown` its maximum in that unit, `max_si`
+// the same in SI (compared in SI: the conversion is monotone, so a cap given as exactly the maximum passes).
+void CheckSpeedCap(double cap_si, double shown, double max_si, double max_shown, const char* unit,
+                   const std::string& input) {
+  if (!(std::isfinite(cap_si) && cap_si > 0 && cap_si <= max_si)) {
+    throw std::invalid_argument(input + ": expected a speed cap in (0, " + Num(max_shown) + "] " + unit + ", got " +
+                                Num(shown) + " " + unit);
   }
 }
 }  // namespace
 
+void CheckLinearSpeedCap(double cap_m_s, const std::string& input) {
+  CheckSpeedCap(cap_m_s, MToMm(cap_m_s), MmToM(kMaxLinearSpeedCapMmS), kMaxLinearSpeedCapMmS, "mm/s", input);
+}
+
+void CheckAngularSpeedCap(double cap_rad_s, const std::string& input) {
+  CheckSpeedCap(cap_rad_s, RadToDeg(cap_rad_s), DegToRad(kMaxAngularSpeedCapDegS), kMaxAngularSpeedCapDegS, "deg/s",
+                input);
+}
+
 void TransferConfig::Validate() const {
-  Require(std::isfinite(rates.transfer_rate_hz) && rates.transfer_rate_hz > 0, "rates.transfer_rate_hz",
-          "a positive rate", rates.transfer_rate_hz);
-  Require(std::isfinite(rates.actuation_rate_hz) && rates.actuation_rate_hz >= rates.transfer_rate_hz,
-          "rates.actuation_rate_hz", "a rate >= transfer_rate_hz", rates.actuation_rate_hz);
+  Require(rates.transfer_rate_hz >= kMinTransferRateHz && rates.transfer_rate_hz <= kMaxTransferRateHz,
+          "rates.transfer_rate_hz", "a rate in [" + Num(kMinTransferRateHz) + ", " + Num(kMaxTransferRateHz) + "] Hz",
+          rates.transfer_rate_hz);
+  Require(rates.actuation_rate_hz >= rates.transfer_rate_hz && rates.actuation_rate_hz <= kMaxActuationRateHz,
+          "rates.actuation_rate_hz",
+          "a rate in [transfer_rate_hz, " + Num(kMaxActuationRateHz) + "] Hz (transfer_rate_hz is " +
+              Num(rates.transfer_rate_hz) + ")",
+          rates.actuation_rate_hz);
   const double ratio = rates.actuation_rate_hz / rates.transfer_rate_hz;
   Require(std::abs(ratio - std::round(ratio)) < 1e-9, "rates.actuation_rate_hz",
           "an integer multiple of transfer_rate_hz", rates.actuation_rate_hz);
-  Require(std::isfinite(caps.max_linear_speed_m_s) && caps.max_linear_speed_m_s > 0, "caps.max_linear_speed_mm_s",
-          "a positive speed", MToMm(caps.max_linear_speed_m_s));
-  Require(std::isfinite(caps.max_angular_speed_rad_s) && caps.max_angular_speed_rad_s > 0,
-          "caps.max_angular_speed_deg_s", "a positive speed", RadToDeg(caps.max_angular_speed_rad_s));
+  CheckLinearSpeedCap(caps.max_linear_speed_m_s, "transfer config: 'caps.max_linear_speed_mm_s'");
+  CheckAngularSpeedCap(caps.max_angular_speed_rad_s, "transfer config: 'caps.max_angular_speed_deg_s'");
   Require(std::isfinite(mapping.translation_scale) && mapping.translation_scale > 0, "mapping.translation_scale",
           "a positive factor", mapping.translation_scale);
   Require(std::isfinite(mapping.rotation_scale) && mapping.rotation_scale > 0, "mapping.rotation_scale",
@@ -66,11 +93,12 @@ TransferConfig TransferConfig::FromYaml(const std::filesystem::path& file) {
 TransferConfig TransferConfig::FromConfig(const ConfigNode& root) {
   TransferConfig c;
   const ConfigNode rates = root.Child("rates");
-  c.rates.transfer_rate_hz = rates.PositiveNumber("transfer_rate_hz");
-  c.rates.actuation_rate_hz = rates.PositiveNumber("actuation_rate_hz");
+  // Read as numbers; their ranges (the rates', the caps' one checker) are Validate()'s.
+  c.rates.transfer_rate_hz = rates.Number("transfer_rate_hz");
+  c.rates.actuation_rate_hz = rates.Number("actuation_rate_hz");
   const ConfigNode caps = root.Child("caps");
-  c.caps.max_linear_speed_m_s = MmToM(caps.PositiveNumber("max_linear_speed_mm_s"));
-  c.caps.max_angular_speed_rad_s = DegToRad(caps.PositiveNumber("max_angular_speed_deg_s"));
+  c.caps.max_linear_speed_m_s = MmToM(caps.Number("max_linear_speed_mm_s"));
+  c.caps.max_angular_speed_rad_s = DegToRad(caps.Number("max_angular_speed_deg_s"));
   const ConfigNode mapping = root.Child("mapping");
   const std::vector<double> rpy = mapping.Numbers("rsr_from_hc_rpy_deg", 3);
   c.mapping.R_FO = RotationFromRpy(Eigen::Vector3d(DegToRad(rpy[0]), DegToRad(rpy[1]), DegToRad(rpy[2])));

@@ -3,6 +3,7 @@
 // there. Everything is SI inside; the YAML keys carry their units (mm, deg, Hz).
 
 #include <filesystem>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -12,7 +13,20 @@ class ConfigNode;
 
 namespace robossis::transfer {
 
-// Tick rates. The paper samples the HC at 1 kHz (USB) and drives the steppers at 10 kHz (§V).
+// [assumed] The range of the transfer rate (HC sampling and the incremental mapping): the paper's 1 kHz inside it.
+// Below 100 Hz a set-point period (10 ms) is a third of the follower's 30 ms freshness bound; above 10 kHz the HC
+// would be sampled faster than the steppers are commanded at the paper's rate, and every tick of the leader costs a
+// device read (the sigma.7 runs at up to 4 kHz).
+inline constexpr double kMinTransferRateHz = 100;
+inline constexpr double kMaxTransferRateHz = 10000;
+// [assumed] The highest actuation rate (stepper commands), twice the paper's 10 kHz: a tick of 50 µs is the period
+// of LinuxCNC's software stepgen base thread (hal.yaml base_period_ns), so pulses cannot be placed finer; a faster
+// tick only costs CPU. Its lowest is the transfer rate (the up-sampling ratio is a whole number >= 1).
+inline constexpr double kMaxActuationRateHz = 20000;
+
+// Tick rates. The paper samples the HC at 1 kHz (USB) and drives the steppers at 10 kHz (§V). The actuation rate
+// has this one place (transfer.yaml `rates.actuation_rate_hz`): the chain, the follower unit, the panel and the
+// actuation's checks (actuation::ActuationConfig::ValidateAtRate) all take it from here.
 struct TransferRates {
   double transfer_rate_hz = 1000;    // [paper] HC sampling and the incremental mapping
   double actuation_rate_hz = 10000;  // [paper] stepper commands
@@ -24,6 +38,20 @@ struct SpeedCaps {
   double max_linear_speed_m_s = 0.010;                    // [paper] 10 mm/s in the demonstration (2 mm/s clinical)
   double max_angular_speed_rad_s = 1.0 * 3.14159265358979323846 / 180.0;  // [paper] 1 deg/s (0.2 deg/s clinical)
 };
+
+// [assumed] The largest speed caps any input may set (transfer.yaml `caps`, --max-speed-mm-s,
+// --max-angular-speed-deg-s): 1 m/s and one turn per second, far beyond any surgical-robot motion (the paper's
+// demonstration caps are 10 mm/s and 1 deg/s, its clinical ones 2 mm/s and 0.2 deg/s); a larger cap is a typo or an
+// attack, and it would let eq. 11 scale nothing down.
+inline constexpr double kMaxLinearSpeedCapMmS = 1000;
+inline constexpr double kMaxAngularSpeedCapDegS = 360;
+
+// The one check of a speed cap, wherever it comes from (transfer.yaml, the command line's caps): finite, > 0 and
+// at most the maximum above. The cap is in SI (m/s, rad/s); `input` names where it came from ("--max-speed-mm-s",
+// "'caps.max_linear_speed_mm_s'"). Throws std::invalid_argument
+// "INPUT: expected a speed cap in (0, 1000] mm/s, got 1e+300 mm/s".
+void CheckLinearSpeedCap(double cap_m_s, const std::string& input);
+void CheckAngularSpeedCap(double cap_rad_s, const std::string& input);
 
 // The clinical caps of the paper (§V): 2 mm/s and 0.2 deg/s. The one place they are written.
 inline SpeedCaps ClinicalSpeedCaps() {

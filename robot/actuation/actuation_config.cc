@@ -1,6 +1,7 @@
 #include "robot/actuation/actuation_config.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -9,13 +10,17 @@
 
 namespace robossis::actuation {
 
+namespace {
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+}  // namespace
+
 void ActuationConfig::Validate() const {
-  if (!(std::isfinite(actuation_rate_hz) && actuation_rate_hz > 0)) {
-    throw std::invalid_argument("actuation config: 'actuation_rate_hz' must be positive");
-  }
-  if (!(std::isfinite(ik_correction_gain_per_s) && ik_correction_gain_per_s >= 0 &&
-        ik_correction_gain_per_s * (1.0 / actuation_rate_hz) < 1.0)) {
-    throw std::invalid_argument("actuation config: 'ik_correction_gain_per_s' must be in [0, actuation_rate_hz)");
+  if (!(std::isfinite(ik_correction_gain_per_s) && ik_correction_gain_per_s >= 0)) {
+    throw std::invalid_argument("actuation config: 'ik_correction_gain_per_s' must be finite and >= 0");
   }
   for (int i = 0; i < kNumMotors; ++i) {
     const MotorConfig& m = motors[i];
@@ -26,12 +31,27 @@ void ActuationConfig::Validate() const {
     if (!(std::isfinite(m.max_step_rate_hz) && m.max_step_rate_hz > 0)) {
       throw std::invalid_argument("actuation config: " + name + ": 'max_step_rate_hz' must be positive");
     }
+  }
+}
+
+void ActuationConfig::ValidateAtRate(double actuation_rate_hz) const {
+  Validate();
+  const std::string rate = Num(actuation_rate_hz) + " Hz (transfer.yaml 'rates.actuation_rate_hz')";
+  if (!(std::isfinite(actuation_rate_hz) && actuation_rate_hz > 0)) {
+    throw std::invalid_argument("actuation config: the actuation rate " + rate + " must be positive");
+  }
+  if (!(ik_correction_gain_per_s * (1.0 / actuation_rate_hz) < 1.0)) {
+    throw std::invalid_argument("actuation config: 'ik_correction_gain_per_s' must be below the actuation rate " +
+                                rate);
+  }
+  for (int i = 0; i < kNumMotors; ++i) {
+    const MotorConfig& m = motors[i];
     // One more crossing than the rate allows can fall in a tick; the per-tick event buffer must hold it.
     if (m.max_step_rate_hz / actuation_rate_hz + 1 > kMaxStepsPerTickPerMotor) {
-      throw std::invalid_argument("actuation config: " + name + ": 'max_step_rate_hz' " +
-                                  std::to_string(m.max_step_rate_hz) + " exceeds " +
-                                  std::to_string((kMaxStepsPerTickPerMotor - 1) * actuation_rate_hz) +
-                                  " (the per-tick pulse buffer)");
+      throw std::invalid_argument("actuation config: motor " + std::to_string(i + 1) + ": 'max_step_rate_hz' " +
+                                  Num(m.max_step_rate_hz) + " exceeds " +
+                                  Num((kMaxStepsPerTickPerMotor - 1) * actuation_rate_hz) +
+                                  " (the per-tick pulse buffer at the actuation rate " + rate + ")");
     }
   }
 }
@@ -40,9 +60,23 @@ ActuationConfig ActuationConfig::FromYaml(const std::filesystem::path& file) {
   return FromConfig(ConfigNode::Load(file));
 }
 
+ActuationConfig ActuationConfig::FromYaml(const std::filesystem::path& file, double actuation_rate_hz) {
+  ActuationConfig c = FromYaml(file);
+  try {
+    c.ValidateAtRate(actuation_rate_hz);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+  return c;
+}
+
 ActuationConfig ActuationConfig::FromConfig(const ConfigNode& root) {
   ActuationConfig c;
-  c.actuation_rate_hz = root.PositiveNumber("actuation_rate_hz");
+  // The rate's one place is transfer.yaml; a copy here could disagree with it silently.
+  if (root.Has("actuation_rate_hz")) {
+    root.Fail("actuation_rate_hz", "this key moved to transfer.yaml 'rates.actuation_rate_hz' (the one actuation "
+                                   "rate); remove it here");
+  }
   c.ik_correction_gain_per_s = root.NumberInRange("ik_correction_gain_per_s", 0.0, 1e4);
   const ConfigNode rotary = root.Child("rotary_motor");
   const ConfigNode linear = root.Child("linear_motor");

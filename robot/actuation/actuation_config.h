@@ -21,15 +21,21 @@ struct MotorConfig {
   double max_step_rate_hz = 1;   // the driver's or motor's limit
 };
 
+// The actuation's tick rate is not here: it is transfer.yaml's `rates.actuation_rate_hz` (the rate the chain, the
+// follower unit and the panel tick at), its one place. actuation.yaml refuses an `actuation_rate_hz` key, saying so.
 struct ActuationConfig {
-  double actuation_rate_hz = 10000;            // [paper] 10 kHz
   std::array<MotorConfig, kNumMotors> motors;  // eq. 13 order
   // eq. 16 integrates q_dot = J x_dot (Euler backward); this gain pulls q toward IK(x) so that the integration's
   // first-order error cannot accumulate (closed-loop inverse kinematics). 0 gives the paper's pure eq. 16.
   double ik_correction_gain_per_s = 20;  // [assumed]
 
   void Validate() const;  // throws std::invalid_argument naming the field
+  // The checks that need the tick rate (transfer.yaml `rates.actuation_rate_hz`): the IK correction within one
+  // tick, and the per-tick pulse buffer. Throws std::invalid_argument naming the field and the rate.
+  void ValidateAtRate(double actuation_rate_hz) const;
   static ActuationConfig FromYaml(const std::filesystem::path& file);  // throws std::runtime_error
+  // The same, then ValidateAtRate(actuation_rate_hz), the error naming the file: how the runtime loads it.
+  static ActuationConfig FromYaml(const std::filesystem::path& file, double actuation_rate_hz);
   // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
   static ActuationConfig FromConfig(const ConfigNode& root);
 };

@@ -56,6 +56,10 @@ double OptionInRange(double value, double lo, double hi, const std::string& opti
 
 // The input paths a `--device` value names ("replay:FILE.csv" → FILE.csv; "sim", "dhd..." → none).
 std::filesystem::path DeviceInputPath(const std::string& device);
+// The --help text of the speed-cap options (--max-speed-mm-s, --max-angular-speed-deg-s): the range the caps'
+// one checker accepts (haptics/transfer/transfer_config.h) and the default.
+std::string LinearSpeedCapHelp();
+std::string AngularSpeedCapHelp();
 
 // Prints a JSON document (pretty, one trailing newline) to stdout.
 void PrintJson(const nlohmann::ordered_json& document);

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "haptics/transfer/transfer_config.h"
 #include "src/apps/app_context.h"
 #include "src/core/parse.h"
 
@@ -23,6 +24,18 @@ OutputPolicy AppContext::Output(std::vector<OutputPolicy::Input> inputs) const {
 std::filesystem::path DeviceInputPath(const std::string& device) {
   const std::string prefix = "replay:";
   return device.rfind(prefix, 0) == 0 ? std::filesystem::path(device.substr(prefix.size())) : std::filesystem::path();
+}
+
+std::string LinearSpeedCapHelp() {
+  std::ostringstream os;
+  os << "Linear speed cap in (0, " << transfer::kMaxLinearSpeedCapMmS << "] mm/s (default: transfer.yaml's caps)";
+  return os.str();
+}
+
+std::string AngularSpeedCapHelp() {
+  std::ostringstream os;
+  os << "Angular speed cap in (0, " << transfer::kMaxAngularSpeedCapDegS << "] deg/s (default: transfer.yaml's caps)";
+  return os.str();
 }
 
 void PrintJson(const nlohmann::ordered_json& document) { std::cout << document.dump(2) << "\n"; }

@@ -14,27 +14,6 @@
 
 namespace robossis::apps {
 
-std::vector<std::string> ParseMethodList(const std::string& text) {
-  std::vector<std::string> methods;
-  std::stringstream in(text);
-  std::string item;
-  const std::vector<std::string> known = haptics::KnownMethods();
-  while (std::getline(in, item, ',')) {
-    if (item.empty()) throw std::invalid_argument("--methods: empty entry in '" + text + "'");
-    if (std::find(known.begin(), known.end(), item) == known.end()) {
-      std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw std::invalid_argument("--methods: unknown method '" + item + "'; known: " + list);
-    }
-    if (std::find(methods.begin(), methods.end(), item) != methods.end()) {
-      throw std::invalid_argument("--methods: '" + item + "' is listed twice");
-    }
-    methods.push_back(item);
-  }
-  if (methods.empty()) throw std::invalid_argument("--methods: expected a comma-separated list of methods");
-  return methods;
-}
-
 RenderCompareResult RunRenderCompare(const AppContext& context, const RenderCompareRequest& request,
                                      const StagedOutputDir& out, const FigureFn& figure,
                                      const std::function<void(const std::string&)>& progress) {
@@ -129,7 +108,9 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
       "Example: robossis render-compare --scenario push-edges --methods pointcloud,proxy --rate-hz 1000 --out cmp");
   cmd->add_option("--scenario", options->scenario, "push-edges | explore | strike | FILE.csv (t_s,x_mm,...,yaw_deg)")
       ->capture_default_str();
-  cmd->add_option("--methods", options->methods, "Comma-separated methods")->capture_default_str();
+  cmd->add_option("--methods", options->methods,
+                  "Comma-separated methods, each once, no empty entry: " + haptics::KnownMethodsText())
+      ->capture_default_str();
   cmd->add_option("--rate-hz", options->rate_hz, "Haptic loop rate (Hz), e.g. 1000 or 4000")->capture_default_str();
   cmd->add_option("--out", options->out, "Output folder (written atomically)")->capture_default_str();
   cmd->add_option("--trace-decimation", options->trace_decimation, "Keep every n-th tick in the traces (the metrics use every tick)")
@@ -143,7 +124,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
   cmd->callback([&context, options] {
     RenderCompareRequest request;
     request.scenario = options->scenario;
-    request.methods = ParseMethodList(options->methods);
+    request.methods = haptics::ParseMethodList(options->methods, "--methods");
     request.rate_hz = options->rate_hz;
     request.fast = options->fast;
     request.trace_decimation = options->trace_decimation;

@@ -44,10 +44,9 @@ struct CommonOptions {
   void Add(CLI::App* cmd) {
     cmd->add_option("--out", out, "Output folder (written atomically: complete or untouched)")->required();
     cmd->add_option("--start-pose", start_pose, "Start pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG (default: home)");
-    max_speed_opt = cmd->add_option("--max-speed-mm-s", max_speed_mm_s,
-                                    "Linear speed cap, > 0 (default: transfer.yaml, 10 mm/s)");
-    max_angular_speed_opt = cmd->add_option("--max-angular-speed-deg-s", max_angular_speed_deg_s,
-                                            "Angular speed cap, > 0 (default: transfer.yaml, 1 deg/s)");
+    max_speed_opt = cmd->add_option("--max-speed-mm-s", max_speed_mm_s, LinearSpeedCapHelp());
+    max_angular_speed_opt =
+        cmd->add_option("--max-angular-speed-deg-s", max_angular_speed_deg_s, AngularSpeedCapHelp());
     CLI::Option* clinical_opt =
         cmd->add_flag("--clinical", clinical, "Clinical caps of the paper: 2 mm/s and 0.2 deg/s");
     clinical_opt->excludes(max_speed_opt)->excludes(max_angular_speed_opt);
@@ -59,18 +58,14 @@ struct CommonOptions {
     ChainSetup s = DefaultChainSetup(context, model);
     if (clinical) s.transfer.caps = transfer::ClinicalSpeedCaps();
     // A given value is used as given: 0 is a value (and refused), never "the default".
+    // The caps' one checker (transfer_config.h), as for transfer.yaml.
     if (max_speed_opt->count() > 0) {
-      if (!(std::isfinite(max_speed_mm_s) && max_speed_mm_s > 0)) {
-        throw std::invalid_argument("--max-speed-mm-s: expected a finite speed > 0, got " + Num(max_speed_mm_s));
-      }
       s.transfer.caps.max_linear_speed_m_s = MmToM(max_speed_mm_s);
+      transfer::CheckLinearSpeedCap(s.transfer.caps.max_linear_speed_m_s, "--max-speed-mm-s");
     }
     if (max_angular_speed_opt->count() > 0) {
-      if (!(std::isfinite(max_angular_speed_deg_s) && max_angular_speed_deg_s > 0)) {
-        throw std::invalid_argument("--max-angular-speed-deg-s: expected a finite speed > 0, got " +
-                                    Num(max_angular_speed_deg_s));
-      }
       s.transfer.caps.max_angular_speed_rad_s = DegToRad(max_angular_speed_deg_s);
+      transfer::CheckAngularSpeedCap(s.transfer.caps.max_angular_speed_rad_s, "--max-angular-speed-deg-s");
     }
     s.transfer.Validate();
     if (!start_pose.empty()) s.X_FM_start = ParsePoseMmDeg(start_pose, "--start-pose");
@@ -229,13 +224,21 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
     }
     if (!verdict.ok()) {
       const transfer::SpeedCaps& caps = setup.transfer.caps;
+      // Rounded up to the millisecond, so that the duration printed is one the check accepts.
+      const double shortest_s = std::ceil(teleop::MinimumMoveDuration(req, setup) * 1e3) * 1e-3;
+      const std::string given = dur_opt->count() > 0 ? "--duration-s" : "the duration of --speed-mm-s/--speed-deg-s";
+      const std::string why =
+          verdict.shorter_than_a_tick
+              ? given + " " + Num(duration_s) + " s is shorter than one actuation tick (" +
+                    Num(1.0 / setup.transfer.rates.actuation_rate_hz) + " s at " +
+                    Num(setup.transfer.rates.actuation_rate_hz) + " Hz, transfer.yaml)"
+              : "the move breaks the speed caps";
       throw std::invalid_argument(
-          "move: the move breaks the speed caps (" + Num(MToMm(caps.max_linear_speed_m_s)) + " mm/s, " +
+          "move: " + why + " (caps " + Num(MToMm(caps.max_linear_speed_m_s)) + " mm/s, " +
           Num(RadToDeg(caps.max_angular_speed_rad_s)) + " deg/s): its peak speeds are " +
           Num(MToMm(probe.peak_linear_speed_m_s())) + " mm/s and " +
           Num(RadToDeg(probe.peak_angular_speed_rad_s())) + " deg/s (" + teleop::ToString(verdict.verdict) +
-          "); the shortest duration within the caps is " +
-          Num(teleop::MinimumMoveDuration(req, caps), "%.3f") + " s");
+          "); the shortest --duration-s within the caps is " + Num(shortest_s, "%.3f") + " s");
     }
     StagedOutputDir out(mv_options->out, output);
     const TransferTrace trace = RunMoveChain({req}, {duration_s}, setup);

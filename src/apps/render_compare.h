@@ -36,9 +36,6 @@ struct RenderCompareResult {
   std::string atlas_source;                               // where it came from, for the report
 };
 
-// Splits "a,b,c"; throws std::invalid_argument naming --methods if empty or unknown.
-std::vector<std::string> ParseMethodList(const std::string& text);
-
 // `figure` renders one PNG: (script, args, png relative path, caption) → success.
 using FigureFn = std::function<bool(const std::string&, const std::vector<std::string>&, const std::string&,
                                     const std::string&)>;

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "geometry/boundary_atlas.h"
+#include "haptics/rendering/method_names.h"
 #include "src/apps/plotting.h"
 #include "src/core/units.h"
 
@@ -16,7 +17,8 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
                    "index=N,hold=1,window_ms=MS] (a sigma.7 through the Force Dimension SDK)")
         ->capture_default_str();
     cmd.add_option("--method", o.method,
-                   "Rendering method (render-compare's list; default: haptics.yaml hardware_default_method)");
+                   "Rendering method: " + haptics::KnownMethodsText() +
+                       " (default: haptics.yaml hardware_default_method)");
     cmd.add_option("--rate-hz", o.rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)")
         ->capture_default_str();
     cmd.add_option("--atlas", o.atlas, "Boundary atlas folder for mesh/mesh-live (default: build the coarse one)");
@@ -30,37 +32,31 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
   cmd.add_option("--duration-s", o.duration_s, "Run time (a replay ends 0.5 s after its last sample)")
       ->capture_default_str();
   cmd.add_option("--out", o.out, "Output folder (written atomically: complete or untouched)")->required();
-  cmd.add_option("--max-speed-mm-s", o.max_speed_mm_s, "Linear speed cap (default: transfer.yaml, 10 mm/s)");
-  cmd.add_option("--max-angular-speed-deg-s", o.max_angular_speed_deg_s,
-                 "Angular speed cap (default: transfer.yaml, 1 deg/s)");
+  cmd.add_option("--max-speed-mm-s", o.max_speed_mm_s, LinearSpeedCapHelp());
+  cmd.add_option("--max-angular-speed-deg-s", o.max_angular_speed_deg_s, AngularSpeedCapHelp());
   cmd.add_flag("--no-plots", o.no_plots, "Skip the figure");
   cmd.add_flag("--json", o.json, "Print summary.json to stdout");
 }
-
-namespace {
-double PositiveFinite(double value, const std::string& option) {
-  if (!(value > 0 && std::isfinite(value))) {
-    throw std::invalid_argument(option + ": expected a positive finite speed, got " + std::to_string(value));
-  }
-  return value;
-}
-}  // namespace
 
 TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o, bool real_clock)
     : rsr(context.LoadRsr()),
       sigma7(context.LoadSigma7()),
       setup(teleop::TeleopSetup::Load(context.data_dir, rsr, sigma7)) {
+  // The caps' one checker (transfer_config.h), as for transfer.yaml.
   if (o.max_speed_mm_s) {
-    setup.transfer.caps.max_linear_speed_m_s = MmToM(PositiveFinite(*o.max_speed_mm_s, "--max-speed-mm-s"));
+    setup.transfer.caps.max_linear_speed_m_s = MmToM(*o.max_speed_mm_s);
+    transfer::CheckLinearSpeedCap(setup.transfer.caps.max_linear_speed_m_s, "--max-speed-mm-s");
   }
   if (o.max_angular_speed_deg_s) {
-    setup.transfer.caps.max_angular_speed_rad_s =
-        DegToRad(PositiveFinite(*o.max_angular_speed_deg_s, "--max-angular-speed-deg-s"));
+    setup.transfer.caps.max_angular_speed_rad_s = DegToRad(*o.max_angular_speed_deg_s);
+    transfer::CheckAngularSpeedCap(setup.transfer.caps.max_angular_speed_rad_s, "--max-angular-speed-deg-s");
   }
   setup.transfer.Validate();
   setup.follower.setpoint.caps = setup.transfer.caps;  // the follower checks the caps the leader applies
   request.device = o.device;
-  request.method = o.method.empty() ? setup.haptics.hardware_default_method : o.method;
+  // The one parser of method names: a given name is checked, an empty one refused (never "the default").
+  request.method =
+      o.method ? haptics::ParseMethodName(*o.method, "--method") : setup.haptics.hardware_default_method;
   request.follower = o.follower;
   request.rate_hz = o.rate_hz;
   request.duration_s = o.duration_s;

@@ -16,7 +16,7 @@ namespace robossis::apps {
 
 struct TeleopCliOptions {
   std::string device = "sim";
-  std::string method;  // default: haptics.yaml hardware_default_method
+  std::optional<std::string> method;  // absent: haptics.yaml hardware_default_method (given empty: an error)
   std::string follower = "sim";
   double rate_hz = 1000;
   double duration_s = 10;

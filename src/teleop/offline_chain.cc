@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "robot/actuation/step_rate.h"
 #include "src/core/units.h"
 #include "src/teleop/delay_estimate.h"
 #include "src/teleop/follower_config.h"
@@ -136,16 +137,7 @@ class Recorder {
         s.steps_total[m] = act->output().steps[m];
         s.steps_commanded[m] = (act->q()[m] - act->q_start()[m]) * act->config().motors[m].steps_per_unit;
       }
-      // Highest step rate per motor over 10 ms windows.
-      std::array<std::vector<double>, 6> times;
-      for (const auto& e : tr_.events) times[e.motor].push_back(e.time_s);
-      for (const auto& ts : times) {
-        std::size_t j = 0;
-        for (std::size_t i = 0; i < ts.size(); ++i) {
-          while (ts[i] - ts[j] > 0.010) ++j;
-          s.max_step_rate_hz = std::max(s.max_step_rate_hz, (i - j + 1) / 0.010);
-        }
-      }
+      s.max_step_rate_hz = actuation::MaxStepRateHz(tr_.events);
     }
   }
 
@@ -164,7 +156,9 @@ class Recorder {
 ChainSetup LoadChainSetup(const std::filesystem::path& config_dir, const robot::RsrModel& model) {
   ChainSetup setup;
   setup.transfer = transfer::TransferConfig::FromYaml(config_dir / "transfer.yaml");
-  setup.actuation = actuation::ActuationConfig::FromYaml(config_dir / "actuation.yaml");
+  // The actuation rate's one place is transfer.yaml; actuation.yaml's rate-dependent checks use it.
+  setup.actuation =
+      actuation::ActuationConfig::FromYaml(config_dir / "actuation.yaml", setup.transfer.rates.actuation_rate_hz);
   const FollowerConfig follower = FollowerConfig::FromYaml(config_dir / "follower.yaml", setup.transfer.caps);
   setup.limits = follower.setpoint;
   setup.guard = follower.guard;
@@ -173,17 +167,20 @@ ChainSetup LoadChainSetup(const std::filesystem::path& config_dir, const robot::
   return setup;
 }
 
-double MinimumMoveDuration(const transfer::TimedMoveRequest& request, const transfer::SpeedCaps& caps) {
+double MinimumMoveDuration(const transfer::TimedMoveRequest& request, const ChainSetup& setup) {
+  const transfer::SpeedCaps& caps = setup.transfer.caps;
   const double inf = std::numeric_limits<double>::infinity();
-  return transfer::TimedMove::DurationForPeakSpeeds(
+  const double at_caps = transfer::TimedMove::DurationForPeakSpeeds(
       request, caps.max_linear_speed_m_s > 0 ? caps.max_linear_speed_m_s : inf,
       caps.max_angular_speed_rad_s > 0 ? caps.max_angular_speed_rad_s : inf);
+  return at_caps > 0 ? std::max(at_caps, 1.0 / setup.transfer.rates.actuation_rate_hz) : 0.0;
 }
 
 PathVerdict ValidateMove(const transfer::TimedMove& move, const ChainSetup& setup) {
   const double dt = 1.0 / setup.transfer.rates.actuation_rate_hz;
   const double t0 = move.end_time_s() - move.duration_s();
-  const auto n = static_cast<std::size_t>(std::ceil(move.duration_s() / dt - 1e-9));
+  // At least one tick: the last sample is always the end pose, however short the move.
+  const auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(move.duration_s() / dt - 1e-9)));
   PathVerdict out;
   // The whole path by the exact IK first, so that a path through the wall is named as such whatever its speed.
   for (std::size_t k = 0; k <= n; ++k) {
@@ -197,7 +194,28 @@ PathVerdict ValidateMove(const transfer::TimedMove& move, const ChainSetup& setu
       return out;
     }
   }
-  SetPointValidator validator(*setup.model, LimitsWithTransferCaps(setup));
+  const bool moves = move.peak_linear_speed_m_s() > 0 || move.peak_angular_speed_rad_s() > 0;
+  // A move shorter than one tick has no tick inside it: the follower would take the whole change in one tick, at
+  // whatever speed that means, and the samples would see only its ends at rest. (1e-9: the rounding of a duration
+  // that is exactly one tick.)
+  if (moves && move.duration_s() < dt * (1 - 1e-9)) {
+    out.verdict = SetPointVerdict::kTooFast;
+    out.shorter_than_a_tick = true;
+    out.time_s = t0;
+    return out;
+  }
+  // The peak of the timed profile (eq. 9: pi/2 · |dx| / duration, at mid-move) against the caps, with the
+  // validator's tolerance: samples at the ticks can straddle the peak, and a pose difference over a tick is a mean.
+  const SetPointLimits limits = LimitsWithTransferCaps(setup);
+  const double slack = 1.0 + limits.cap_tolerance;
+  if (move.peak_linear_speed_m_s() > slack * limits.caps.max_linear_speed_m_s ||
+      move.peak_angular_speed_rad_s() > slack * limits.caps.max_angular_speed_rad_s) {
+    out.verdict = SetPointVerdict::kTooFast;
+    out.index = n / 2;
+    out.time_s = t0 + 0.5 * move.duration_s();
+    return out;
+  }
+  SetPointValidator validator(*setup.model, limits);
   for (std::size_t k = 0; k <= n; ++k) {
     const double t = std::min(t0 + k * dt, move.end_time_s());
     const transfer::RsrSetPoint sp = move.Evaluate(t);

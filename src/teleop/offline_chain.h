@@ -44,7 +44,7 @@ struct TransferSummary {
   std::string tightest_limit;           // which limit that was ("arm 2 spherical_cone")
   std::size_t rate_limited_ticks = 0;
   transfer::TransferCounters counters;
-  double max_step_rate_hz = 0;  // highest per-motor step rate seen (over 10 ms windows)
+  double max_step_rate_hz = 0;  // highest per-motor step rate seen (actuation::MaxStepRateHz, 10 ms windows)
 };
 
 struct TransferTrace {
@@ -81,10 +81,13 @@ struct ChainSetup {
 ChainSetup LoadChainSetup(const std::filesystem::path& config_dir, const robot::RsrModel& model);
 
 // The first set-point of an eq. 9 move, sampled at the actuation rate, that breaks a limit: first the exact IK of
-// every sample (the whole path, cones included), then the caps through the validator.
+// every sample (the whole path, cones included, the end pose always), then the move's length (a move that changes
+// the pose in less than one actuation tick is refused: kTooFast with `shorter_than_a_tick`), then the peak speeds
+// of its profile (eq. 9) against the caps (kTooFast at mid-move), then every sample through the validator.
 PathVerdict ValidateMove(const transfer::TimedMove& move, const ChainSetup& setup);
-// The shortest duration of `request` that keeps the move within the caps (eq. 9 peak speeds).
-double MinimumMoveDuration(const transfer::TimedMoveRequest& request, const transfer::SpeedCaps& caps);
+// The shortest duration of `request` that ValidateMove accepts as to speed: the caps at eq. 9's peak speeds, and
+// at least one actuation tick (0 for no change).
+double MinimumMoveDuration(const transfer::TimedMoveRequest& request, const ChainSetup& setup);
 
 // Replays an HC trajectory through the chain.
 TransferTrace RunTransferChain(const transfer::HcTrajectory& hc, const ChainSetup& setup);

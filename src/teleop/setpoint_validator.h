@@ -110,6 +110,7 @@ struct PathVerdict {
   std::size_t index = 0;
   double time_s = 0;
   robot::RsrLimitCheck tightest{};
+  bool shorter_than_a_tick = false;  // kTooFast because the move changes the pose within one actuation tick
   bool ok() const noexcept { return verdict == SetPointVerdict::kAccepted; }
 };
 

@@ -49,7 +49,8 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.sigma7 = &sigma7;
   s.haptics = haptics::HapticsConfig::FromYaml(config / "haptics.yaml");
   s.transfer = transfer::TransferConfig::FromYaml(config / "transfer.yaml");
-  s.actuation = actuation::ActuationConfig::FromYaml(config / "actuation.yaml");
+  // The actuation rate's one place is transfer.yaml; actuation.yaml's rate-dependent checks use it.
+  s.actuation = actuation::ActuationConfig::FromYaml(config / "actuation.yaml", s.transfer.rates.actuation_rate_hz);
   s.follower = FollowerConfig::FromYaml(config / "follower.yaml", s.transfer.caps);
   s.leader = LeaderConfig::FromYaml(config / "leader.yaml");
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
@@ -74,12 +75,7 @@ enum class Units { kBoth, kLeader, kFollower };
 
 void CheckRequest(const TeleopRequest& r, Units units) {
   if (units != Units::kFollower) {
-    const auto methods = haptics::KnownMethods();
-    if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) {
-      std::string known;
-      for (const auto& m : methods) known += (known.empty() ? "" : ", ") + m;
-      throw std::invalid_argument("--method: unknown method '" + r.method + "'; known: " + known);
-    }
+    haptics::ParseMethodName(r.method, "--method");  // the one parser of method names; throws naming the list
   }
   if (units != Units::kLeader) {
     const auto followers = KnownFollowers();

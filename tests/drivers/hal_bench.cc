@@ -133,9 +133,12 @@ void BM_LongMotionStepAgreement(benchmark::State& st) {
     X = moves.back().X_FM_end();
   }
 
+  // The actuation's tick: transfer.yaml's rate, its one place.
+  const double dt_actuation =
+      1.0 / transfer::TransferConfig::FromYaml(DataDir() / "config" / "transfer.yaml").rates.actuation_rate_hz;
   for (auto _ : st) {
     actuation::Actuator actuator(model, act, X_home, 0);
-    const double dt = 1.0 / act.actuation_rate_hz;
+    const double dt = dt_actuation;
     double t0 = std::numeric_limits<double>::infinity();
     std::int64_t tick = 0, steps_travelled = 0;
     HalConfig config = HalConfig::FromYaml(DataDir() / "config" / "hal.yaml");

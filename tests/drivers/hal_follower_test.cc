@@ -76,7 +76,9 @@ TEST_F(HalFollowerTest, StepCountsMatchEq17AndFeedbackFollowsTheCommand) {
   const Eigen::Isometry3d& X_home = model_.geometry().X_FM_home;
   const transfer::TimedMove move(X_home, request, 2.0);
   actuation::Actuator actuator(model_, act_config, X_home, 0);
-  const double dt = 1.0 / act_config.actuation_rate_hz;
+  // The actuation's tick: transfer.yaml's rate, its one place.
+  const double dt =
+      1.0 / transfer::TransferConfig::FromYaml(DataDir() / "config" / "transfer.yaml").rates.actuation_rate_hz;
 
   std::atomic<double> t0{std::numeric_limits<double>::infinity()};
   std::int64_t tick = 0;

@@ -87,7 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
                       std::make_pair("move --delta-mm 0,0,2 --speed-mm-s 50", "breaks the speed caps"),
                       // 0 is a value, never "the default".
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 0",
-                                     "--max-speed-mm-s: expected a finite speed > 0, got 0"),
+                                     "--max-speed-mm-s: expected a speed cap in (0, 1000] mm/s, got 0 mm/s"),
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 0", "--duration-s: expected a positive"),
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --clinical --max-speed-mm-s 50",
                                      "excludes"),
