@@ -21,22 +21,9 @@ using robossis::testing::Robossis;
 
 class HostileGeometryTest : public robossis::testing::HostileCliTest {
  protected:
-  // A copy of data/config (made by the test's first call; later calls edit the same copy) with `from` replaced by
-  // `to` in rsr.yaml.
+  // A copy of the data folder with `from` replaced by `to` in rsr.yaml.
   fs::path DataDirWithRsr(const std::string& from, const std::string& to) const {
-    const fs::path data = dir_ / "data";
-    if (!fs::exists(data / "config")) {
-      fs::create_directories(data / "config");
-      for (const auto& e : fs::directory_iterator(fs::path(ROBOSSIS_SOURCE_DIR) / "data" / "config")) {
-        fs::copy_file(e.path(), data / "config" / e.path().filename());
-      }
-    }
-    std::string text = Read(data / "config" / "rsr.yaml");
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-    std::ofstream(data / "config" / "rsr.yaml", std::ios::binary) << text;
-    return data;
+    return DataDirWith("rsr.yaml", [&](const std::string& t) { return Replace(t, from, to); });
   }
   // A coarse atlas, built once per test, and a fresh copy of it to damage (a new folder per copy).
   fs::path Atlas() {
@@ -81,15 +68,17 @@ TEST_F(HostileGeometryTest, ArmsCloserThan30DegreesAreRefused) {
   ExpectError(Robossis("--data-dir " + Q(close) + " robot ik --pose 0,0,284,0,0,0"),
               "arms 1 and 2 are 10 deg apart");
   // Across the 360 deg wrap: 350 and 10 are 20 deg apart.
-  const fs::path wrap = DataDirWithRsr("arm_angles_deg: [80, 90, 100]", "arm_angles_deg: [350, 130, 10]");
+  const fs::path wrap = DataDirWithRsr("arm_angles_deg: [-30, 90, 210]", "arm_angles_deg: [350, 130, 10]");
   ExpectError(Robossis("--data-dir " + Q(wrap) + " robot info"), "arms 1 and 3 are 20 deg apart");
 }
 
 TEST_F(HostileGeometryTest, ANearSingularHomePoseIsRefused) {
   // A moving ring of 0.1 mm radius (cones widened so that home stays inside the limits): the legs meet at one point
   // and the ring is nearly free to turn about it (condition number 4.4e4).
-  fs::path data = DataDirWithRsr("moving_ring_radius_m: 0.200", "moving_ring_radius_m: 0.0001");
-  data = DataDirWithRsr("spherical_cone_max_deg: 25", "spherical_cone_max_deg: 60");
+  const fs::path data = DataDirWith("rsr.yaml", [](const std::string& t) {
+    return Replace(Replace(t, "moving_ring_radius_m: 0.200", "moving_ring_radius_m: 0.0001"),
+                   "spherical_cone_max_deg: 25", "spherical_cone_max_deg: 60");
+  });
   ExpectError(Robossis("--data-dir " + Q(data) + " robot info"), "home_pose: the Jacobian's condition number");
 }
 

@@ -25,20 +25,7 @@ using ::testing::Not;
 using robossis::testing::CommandRun;
 using robossis::testing::Robossis;
 
-class HostileInputTest : public robossis::testing::HostileCliTest {
- protected:
-  // A copy of the project's data folder whose config `name` is edited by `edit`.
-  template <typename Edit>
-  fs::path DataDirWith(const std::string& name, Edit edit) const {
-    const fs::path data = dir_ / "data";
-    fs::create_directories(data);
-    fs::copy(robossis::DefaultDataDir(), data, fs::copy_options::recursive);
-    const fs::path file = data / "config" / name;
-    const std::string text = Read(file);
-    std::ofstream(file, std::ios::binary | std::ios::trunc) << edit(text);
-    return data;
-  }
-};
+class HostileInputTest : public robossis::testing::HostileCliTest {};
 
 // --- YAML: unknown and duplicated keys, exact types -------------------------------------------------------------
 
@@ -184,26 +171,14 @@ class HostileMotiveTest : public HostileInputTest {
   // A moving reference (the same kind as the mocap CLI test's) and a simulated Motive take of it in metres.
   void SetUp() override {
     HostileInputTest::SetUp();
-    std::ostringstream cmd;
-    cmd << "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
-    for (int k = 0; k <= 1500; ++k) {
-      const double t = k * 0.01, e = 0.5 * (1 - std::cos(2 * M_PI * t / 15.0));
-      cmd << t << "," << e * 20 * std::sin(0.7 * t) << "," << e * 15 * std::sin(1.1 * t + 1) << ","
-          << 284 + e * 8 * std::sin(0.9 * t) << "," << e * 5 * std::sin(1.3 * t) << ","
-          << e * 4 * std::sin(0.8 * t + 2) << "," << e * 9 * std::sin(0.6 * t + 0.5) << "\n";
-    }
-    reference_ = Write("commanded.csv", cmd.str());
+    reference_ = MovingReference();
     const CommandRun sim = Robossis("mocap simulate --reference " + Q(reference_) + " --out " + Q(dir_ / "take.csv"));
     ASSERT_EQ(sim.exit_code, 0) << sim.output;
     take_ = Read(dir_ / "take.csv");
   }
   // The take with `from` replaced by `to` (first occurrence), as a file.
   fs::path Edited(const std::string& name, const std::string& from, const std::string& to) {
-    std::string t = take_;
-    const std::size_t at = t.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) t.replace(at, from.size(), to);
-    return Write(name, t);
+    return Write(name, Replace(take_, from, to));
   }
   CommandRun Eval(const fs::path& take) {
     return Robossis("track-eval --mocap " + Q(take) + " --rigid-body MovingRing --reference " + Q(reference_) +

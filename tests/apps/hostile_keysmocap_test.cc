@@ -27,19 +27,6 @@ using robossis::testing::Robossis;
 
 class HostileKeysMocapTest : public robossis::testing::HostileCliTest {
  protected:
-  // A moving reference (15 s at 100 Hz, as the mocap CLI test's).
-  fs::path Reference() const {
-    const fs::path p = dir_ / "commanded.csv";
-    std::ofstream cmd(p);
-    cmd << "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
-    for (int k = 0; k <= 1500; ++k) {
-      const double t = k * 0.01, e = 0.5 * (1 - std::cos(2 * M_PI * t / 15.0));
-      cmd << t << "," << e * 20 * std::sin(0.7 * t) << "," << e * 15 * std::sin(1.1 * t + 1) << ","
-          << 284 + e * 8 * std::sin(0.9 * t) << "," << e * 5 * std::sin(1.3 * t) << ","
-          << e * 4 * std::sin(0.8 * t + 2) << "," << e * 9 * std::sin(0.6 * t + 0.5) << "\n";
-    }
-    return p;
-  }
   CommandRun Simulate(const fs::path& out, const std::string& extra) const {
     return Robossis("mocap simulate --reference " + Q(dir_ / "commanded.csv") + " --out " + Q(out) + " " + extra);
   }
@@ -82,7 +69,7 @@ TEST_F(HostileKeysMocapTest, KeysInitPermissionsGrantOnlyTheLinksOwnTopics) {
 // --- mocap simulate: rigid body names a CSV cell can hold -------------------------------------------------------
 
 TEST_F(HostileKeysMocapTest, SimulateRefusesNamesThatBreakTheCsv) {
-  Reference();
+  MovingReference();
   for (const std::string& name : std::vector<std::string>{
            "a,b", "", "a\"b", "a\nb", "a\rb", " a", "a ", std::string(65, 'r')}) {
     const fs::path take = dir_ / "take.csv";
@@ -94,7 +81,7 @@ TEST_F(HostileKeysMocapTest, SimulateRefusesNamesThatBreakTheCsv) {
 }
 
 TEST_F(HostileKeysMocapTest, SimulatedNamesReadBack) {
-  Reference();
+  MovingReference();
   for (const std::string& name : std::vector<std::string>{"My Ring_1", "ring:2", std::string(64, 'r')}) {
     const fs::path take = dir_ / "take.csv";
     ASSERT_EQ(Simulate(take, "--rigid-body " + Q(name)).exit_code, 0) << name;
@@ -107,7 +94,7 @@ TEST_F(HostileKeysMocapTest, SimulatedNamesReadBack) {
 // --- mocap simulate: the gaps asked for are the gaps written ---------------------------------------------------
 
 TEST_F(HostileKeysMocapTest, SimulateWritesExactlyTheRequestedGaps) {
-  Reference();
+  MovingReference();
   const CommandRun too_many = Simulate(dir_ / "take.csv", "--gaps 1000");
   ExpectError(too_many, "--gaps 1000: at most ");
   EXPECT_THAT(too_many.output, HasSubstr("of up to 0.3 s"));
@@ -136,7 +123,7 @@ TEST_F(HostileKeysMocapTest, SimulateWritesExactlyTheRequestedGaps) {
 // --- track-eval: every option is checked, used or not ------------------------------------------------------------
 
 TEST_F(HostileKeysMocapTest, TrackEvalChecksTheOffsetOptionsAlways) {
-  Reference();
+  MovingReference();
   ASSERT_EQ(Simulate(dir_ / "take.csv", "--offset-s 2.5 --gaps 3").exit_code, 0);
   const std::string eval = "track-eval --mocap " + Q(dir_ / "take.csv") + " --rigid-body MovingRing --reference " +
                            Q(dir_ / "commanded.csv") + " --out " + Q(dir_ / "ev") + " --no-plot ";

@@ -21,34 +21,9 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using robossis::testing::CommandRun;
-using robossis::testing::RunShell;
 
 class HostileMotionTest : public robossis::testing::HostileCliTest {
  protected:
-  // `robossis ARGS` with a time limit: an input that used to hang fails the test instead of stalling the suite.
-  static CommandRun Run(const std::string& args, bool with_stderr = true) {
-    return RunShell("timeout 300 " + std::string(ROBOSSIS_BINARY) + " " + args +
-                    (with_stderr ? " 2>&1" : " 2>/dev/null"));
-  }
-  // A copy of the project's configs (data/config only: what the motion commands read) with `name` edited.
-  template <typename Edit>
-  fs::path DataDirWith(const std::string& name, Edit edit) const {
-    const fs::path data = dir_ / "data";
-    fs::remove_all(data);
-    fs::create_directories(data);
-    fs::copy(robossis::DefaultDataDir() / "config", data / "config", fs::copy_options::recursive);
-    const fs::path file = data / "config" / name;
-    const std::string text = Read(file);
-    std::ofstream(file, std::ios::binary | std::ios::trunc) << edit(text);
-    return data;
-  }
-  // `text` with the first `from` replaced by `to` (the test fails if `from` is not there).
-  static std::string Replace(std::string text, const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-    return text;
-  }
   fs::path Out() const { return dir_ / "out"; }
   std::string MoveArgs(const std::string& extra) const {
     return "move --no-plots --out " + Q(Out()) + " " + extra;
@@ -63,31 +38,31 @@ class HostileMotionTest : public robossis::testing::HostileCliTest {
 
 TEST_F(HostileMotionTest, AMoveShorterThanOneTickIsRefusedNamingDurationS) {
   // 5 mm in 1e-15 s: zero ticks, so no sample between the ends was judged (it exited 0 and moved).
-  const CommandRun run = Run(MoveArgs("--delta-mm 0,0,5 --duration-s 1e-15"));
+  const CommandRun run = RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1e-15"));
   ExpectError(run, "--duration-s 1e-15 s is shorter than one actuation tick (0.0001 s at 10000 Hz");
   EXPECT_THAT(run.output, HasSubstr("the shortest --duration-s within the caps is 0.786 s"));
   EXPECT_FALSE(fs::exists(Out()));
   // Half a tick, and a peak speed that makes the move last a femtosecond.
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,0.0001 --duration-s 5e-5")), "shorter than one actuation tick");
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "the duration of --speed-mm-s/--speed-deg-s");
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "shorter than one actuation tick");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,0.0001 --duration-s 5e-5")), "shorter than one actuation tick");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "the duration of --speed-mm-s/--speed-deg-s");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "shorter than one actuation tick");
   EXPECT_FALSE(fs::exists(Out()));
 }
 
 TEST_F(HostileMotionTest, ASubTickMoveToAnInfeasiblePoseIsRefusedAsLeavingTheWorkspace) {
   // 200 mm up in 1e-15 s ends far outside the strokes: the end pose is always among the samples.
-  const CommandRun run = Run(MoveArgs("--delta-mm 0,0,200 --duration-s 1e-15"));
+  const CommandRun run = RunBounded(MoveArgs("--delta-mm 0,0,200 --duration-s 1e-15"));
   ExpectError(run, "move: the move leaves the RSR's workspace (joint limits) at 100.00 % of its path");
   EXPECT_FALSE(fs::exists(Out()));
 }
 
 TEST_F(HostileMotionTest, ThePeakSpeedOfAOneTickMoveIsHeldAgainstTheCaps) {
   // 0.9 µm in one tick: a mean of 9 mm/s under the 10 mm/s cap, but eq. 9 peaks at pi/2 of it, 14.1 mm/s.
-  const CommandRun run = Run(MoveArgs("--delta-mm 0,0,0.0009 --duration-s 1e-4"));
+  const CommandRun run = RunBounded(MoveArgs("--delta-mm 0,0,0.0009 --duration-s 1e-4"));
   ExpectError(run, "move: the move breaks the speed caps (caps 10 mm/s, 1 deg/s): its peak speeds are 14.1372 mm/s");
   EXPECT_THAT(run.output, HasSubstr("the shortest --duration-s within the caps is 0.001 s"));
   // Within the caps at its peak, one tick is a move like any other.
-  EXPECT_EQ(Run(MoveArgs("--delta-mm 0,0,0.0005 --duration-s 1e-4")).exit_code, 0);
+  EXPECT_EQ(RunBounded(MoveArgs("--delta-mm 0,0,0.0005 --duration-s 1e-4")).exit_code, 0);
 }
 
 // --- Speed caps: one checker with documented maxima, for the command line and transfer.yaml -----------------------
@@ -95,40 +70,40 @@ TEST_F(HostileMotionTest, ThePeakSpeedOfAOneTickMoveIsHeldAgainstTheCaps) {
 TEST_F(HostileMotionTest, SpeedCapsAreBoundedOnEveryCommandThatTakesThem) {
   const std::string linear = "--max-speed-mm-s: expected a speed cap in (0, 1000] mm/s, got ";
   const std::string angular = "--max-angular-speed-deg-s: expected a speed cap in (0, 360] deg/s, got ";
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1e300")), linear + "1e+300 mm/s");
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1000.5")), linear + "1000.5 mm/s");
-  ExpectError(Run(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s nan")), linear + "nan mm/s");
-  ExpectError(Run(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s 1e300")),
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1e300")), linear + "1e+300 mm/s");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1000.5")), linear + "1000.5 mm/s");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s nan")), linear + "nan mm/s");
+  ExpectError(RunBounded(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s 1e300")),
               angular + "1e+300 deg/s");
-  ExpectError(Run(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s -1")), angular + "-1 deg/s");
-  ExpectError(Run("transfer --scenario slow --no-plots --max-speed-mm-s 1e300 --out " + Q(Out())),
+  ExpectError(RunBounded(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s -1")), angular + "-1 deg/s");
+  ExpectError(RunBounded("transfer --scenario slow --no-plots --max-speed-mm-s 1e300 --out " + Q(Out())),
               linear + "1e+300 mm/s");
-  ExpectError(Run("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots --max-speed-mm-s 1e300 "
+  ExpectError(RunBounded("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots --max-speed-mm-s 1e300 "
                   "--out " + Q(Out())),
               linear + "1e+300 mm/s");
-  ExpectError(Run("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots "
+  ExpectError(RunBounded("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots "
                   "--max-angular-speed-deg-s 400 --out " + Q(Out())),
               angular + "400 deg/s");
   EXPECT_FALSE(fs::exists(Out()));
   // The maxima themselves are caps like any other, and --help says what they are.
-  EXPECT_EQ(Run(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1000 --max-angular-speed-deg-s 360"))
+  EXPECT_EQ(RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 1000 --max-angular-speed-deg-s 360"))
                 .exit_code,
             0);
-  EXPECT_THAT(Run("move --help").output, HasSubstr("Linear speed cap in (0, 1000] mm/s"));
-  EXPECT_THAT(Run("teleop --help").output, HasSubstr("Angular speed cap in (0, 360] deg/s"));
+  EXPECT_THAT(RunBounded("move --help").output, HasSubstr("Linear speed cap in (0, 1000] mm/s"));
+  EXPECT_THAT(RunBounded("teleop --help").output, HasSubstr("Angular speed cap in (0, 360] deg/s"));
 }
 
 TEST_F(HostileMotionTest, SpeedCapsInTransferYamlGoThroughTheSameChecker) {
   const fs::path data = DataDirWith("transfer.yaml", [](const std::string& t) {
     return Replace(t, "max_linear_speed_mm_s: 10", "max_linear_speed_mm_s: 1e300");
   });
-  const CommandRun run = Run("--data-dir " + Q(data) + " " + MoveArgs("--delta-mm 0,0,5 --duration-s 1"));
+  const CommandRun run = RunBounded("--data-dir " + Q(data) + " " + MoveArgs("--delta-mm 0,0,5 --duration-s 1"));
   ExpectError(run, "transfer.yaml: transfer config: 'caps.max_linear_speed_mm_s': expected a speed cap in (0, 1000] "
                    "mm/s, got 1e+300 mm/s");
   const fs::path angular = DataDirWith("transfer.yaml", [](const std::string& t) {
     return Replace(t, "max_angular_speed_deg_s: 1", "max_angular_speed_deg_s: 0");
   });
-  ExpectError(Run("--data-dir " + Q(angular) + " " + MoveArgs("--delta-mm 0,0,5 --duration-s 1")),
+  ExpectError(RunBounded("--data-dir " + Q(angular) + " " + MoveArgs("--delta-mm 0,0,5 --duration-s 1")),
               "'caps.max_angular_speed_deg_s': expected a speed cap in (0, 360] deg/s, got 0 deg/s");
   EXPECT_FALSE(fs::exists(Out()));
 }
@@ -139,7 +114,7 @@ TEST_F(HostileMotionTest, AStepTrainAtTheMotorsMaximumRateReadsThatRate) {
   // 40 mm in 2 s peaks at 31 mm/s of stroke, above the linear motors' 4000 steps/s (20 mm/s): the actuation holds
   // them at exactly 4000 Hz, which the closed window read as 4100 Hz.
   const nlohmann::json summary =
-      Json(Run(MoveArgs("--json --delta-mm 0,0,40 --duration-s 2 --max-speed-mm-s 40"), false));
+      Json(RunBounded(MoveArgs("--json --delta-mm 0,0,40 --duration-s 2 --max-speed-mm-s 40"), false));
   EXPECT_GT(summary.value("rate_limited_ticks", 0), 1000) << summary.dump();
   EXPECT_DOUBLE_EQ(summary.value("max_step_rate_hz", 0.0), 4000.0) << summary.dump();
 }
@@ -163,7 +138,7 @@ TEST_F(HostileMotionTest, TransferAndActuationRatesOutOfTheirRangesAreRefusedNam
       return Replace(Replace(t, "transfer_rate_hz: 1000 ", "transfer_rate_hz: " + c.transfer_hz + " "),
                      "actuation_rate_hz: 10000 ", "actuation_rate_hz: " + c.actuation_hz + " ");
     });
-    const CommandRun run = Run("--data-dir " + Q(data) + " " + MoveArgs("--delta-mm 0,0,1 --duration-s 1"));
+    const CommandRun run = RunBounded("--data-dir " + Q(data) + " " + MoveArgs("--delta-mm 0,0,1 --duration-s 1"));
     ExpectError(run, "transfer.yaml: transfer config: " + c.key);
     EXPECT_THAT(run.output, HasSubstr(c.expected)) << c.transfer_hz << " " << c.actuation_hz;
   }
@@ -176,7 +151,7 @@ TEST_F(HostileMotionTest, TheRateBoundsThemselvesAreAccepted) {
                    "actuation_rate_hz: 20000 ");
   });
   const nlohmann::json summary =
-      Json(Run("--data-dir " + Q(data) + " " + MoveArgs("--json --delta-mm 0,0,1 --duration-s 0.5"), false));
+      Json(RunBounded("--data-dir " + Q(data) + " " + MoveArgs("--json --delta-mm 0,0,1 --duration-s 0.5"), false));
   // The move (0.5 s) and its settling (0.2 s) at transfer.yaml's 20 kHz: the chain ticks at that one rate.
   EXPECT_EQ(summary.value("ticks_10khz", 0), 14000) << summary.dump();
 }
@@ -191,7 +166,7 @@ TEST_F(HostileMotionTest, TheActuationRateLivesInTransferYamlAlone) {
   });
   for (const std::string& command :
        {MoveArgs("--delta-mm 0,0,1 --duration-s 1"), std::string("hal config --target stepgen")}) {
-    const CommandRun run = Run("--data-dir " + Q(data) + " " + command);
+    const CommandRun run = RunBounded("--data-dir " + Q(data) + " " + command);
     ExpectError(run, "actuation.yaml: 'actuation_rate_hz': this key moved to transfer.yaml 'rates.actuation_rate_hz'");
   }
   // actuation.yaml's checks that need the rate take transfer.yaml's: 75 000 steps/s cannot fit the per-tick pulse
@@ -199,7 +174,7 @@ TEST_F(HostileMotionTest, TheActuationRateLivesInTransferYamlAlone) {
   const fs::path fast = DataDirWith("actuation.yaml", [](const std::string& t) {
     return Replace(t, "max_step_rate_hz: 4000 ", "max_step_rate_hz: 75000 ");
   });
-  const CommandRun run = Run("--data-dir " + Q(fast) + " " + MoveArgs("--delta-mm 0,0,1 --duration-s 1"));
+  const CommandRun run = RunBounded("--data-dir " + Q(fast) + " " + MoveArgs("--delta-mm 0,0,1 --duration-s 1"));
   ExpectError(run, "actuation.yaml: actuation config: motor 1: 'max_step_rate_hz' 75000");
   EXPECT_THAT(run.output, HasSubstr("(transfer.yaml 'rates.actuation_rate_hz')"));
   EXPECT_FALSE(fs::exists(Out()));
@@ -211,15 +186,15 @@ TEST_F(HostileMotionTest, MethodListsWithEmptyEntriesAreRefusedWithTheKnownMetho
   const std::string known = "known: pointcloud, pointcloud-safe, pointcloud-pc, mesh, mesh-live, mesh-proxy, proxy, "
                             "proxy-safe, proxy-pc";
   for (const std::string& list : std::vector<std::string>{"proxy,", ",proxy", "proxy,,pointcloud", ","}) {
-    const CommandRun run = Run("render-compare --fast --scenario strike --methods " + Q(list) + " --out " + Q(Out()));
+    const CommandRun run = RunBounded("render-compare --fast --scenario strike --methods " + Q(list) + " --out " + Q(Out()));
     ExpectError(run, "--methods: empty entry");
     EXPECT_THAT(run.output, HasSubstr(known)) << list;
   }
-  ExpectError(Run("render-compare --fast --scenario strike --methods '' --out " + Q(Out())),
+  ExpectError(RunBounded("render-compare --fast --scenario strike --methods '' --out " + Q(Out())),
               "--methods: expected a comma-separated list of methods, got nothing; " + known);
-  ExpectError(Run("render-compare --fast --scenario strike --methods ' proxy' --out " + Q(Out())),
+  ExpectError(RunBounded("render-compare --fast --scenario strike --methods ' proxy' --out " + Q(Out())),
               "--methods: unknown method ' proxy'; " + known);
-  ExpectError(Run("render-compare --fast --scenario strike --methods proxy,proxy --out " + Q(Out())),
+  ExpectError(RunBounded("render-compare --fast --scenario strike --methods proxy,proxy --out " + Q(Out())),
               "--methods: 'proxy' is listed twice");
   EXPECT_FALSE(fs::exists(Out()));
 }
@@ -227,16 +202,16 @@ TEST_F(HostileMotionTest, MethodListsWithEmptyEntriesAreRefusedWithTheKnownMetho
 TEST_F(HostileMotionTest, AnEmptyOrUnknownMethodNameIsRefusedEverywhere) {
   const std::string session = "teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots ";
   // An empty --method ran the haptics.yaml default silently.
-  ExpectError(Run(session + "--method '' --out " + Q(Out())),
+  ExpectError(RunBounded(session + "--method '' --out " + Q(Out())),
               "--method: expected a rendering method, got an empty name; known: pointcloud");
-  ExpectError(Run(session + "--method 'proxy,' --out " + Q(Out())), "--method: unknown method 'proxy,'; known: ");
+  ExpectError(RunBounded(session + "--method 'proxy,' --out " + Q(Out())), "--method: unknown method 'proxy,'; known: ");
   EXPECT_FALSE(fs::exists(Out()));
   const fs::path data = DataDirWith("haptics.yaml", [](const std::string& t) {
     const std::size_t at = t.find("hardware_default_method:");
     EXPECT_NE(at, std::string::npos);
     return t.substr(0, at) + "hardware_default_method: ''\n" + t.substr(t.find('\n', at) + 1);
   });
-  ExpectError(Run("--data-dir " + Q(data) + " " + session + "--out " + Q(Out())),
+  ExpectError(RunBounded("--data-dir " + Q(data) + " " + session + "--out " + Q(Out())),
               "haptics.yaml: hardware_default_method: expected a rendering method, got an empty name; known: ");
 }
 

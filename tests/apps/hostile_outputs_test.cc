@@ -25,18 +25,6 @@ using robossis::testing::Robossis;
 
 class HostileOutputsTest : public robossis::testing::HostileCliTest {
  protected:
-  // A moving reference trajectory (15 s at 100 Hz), as the mocap CLI tests use.
-  fs::path Reference(const std::string& name = "commanded.csv") const {
-    std::ostringstream cmd;
-    cmd << "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
-    for (int k = 0; k <= 1500; ++k) {
-      const double t = k * 0.01, e = 0.5 * (1 - std::cos(2 * M_PI * t / 15.0));
-      cmd << t << "," << e * 20 * std::sin(0.7 * t) << "," << e * 15 * std::sin(1.1 * t + 1) << ","
-          << 284 + e * 8 * std::sin(0.9 * t) << "," << e * 5 * std::sin(1.3 * t) << ","
-          << e * 4 * std::sin(0.8 * t + 2) << "," << e * 9 * std::sin(0.6 * t + 0.5) << "\n";
-    }
-    return Write(name, cmd.str());
-  }
   // A folder someone else's: never an earlier robossis output.
   fs::path Foreign(const std::string& name) const {
     Write(name + "/thesis.tex", "precious");
@@ -49,14 +37,6 @@ class HostileOutputsTest : public robossis::testing::HostileCliTest {
       EXPECT_EQ(name.find(".tmp-"), std::string::npos) << entry.path();
       EXPECT_EQ(name.find(".partial-"), std::string::npos) << entry.path();
     }
-  }
-  // A copy of the project's data folder with `line` appended to config `name`.
-  fs::path DataDirWithLine(const std::string& name, const std::string& line) const {
-    const fs::path data = dir_ / "data";
-    fs::create_directories(data);
-    fs::copy(robossis::DefaultDataDir(), data, fs::copy_options::recursive);
-    std::ofstream(data / "config" / name, std::ios::app) << line << "\n";
-    return data;
   }
 };
 
@@ -106,7 +86,7 @@ TEST_F(HostileOutputsTest, OutOverAnInputOfTheRunIsRefusedAndTheInputKept) {
               "is inside --atlas");
   EXPECT_TRUE(fs::exists(dir_ / "A" / "manifest.json"));
   // A Motive take evaluated into its own folder (foreign, so only --force would have replaced it).
-  const fs::path reference = Reference();
+  const fs::path reference = MovingReference();
   ASSERT_EQ(Robossis("mocap simulate --reference " + Q(reference) + " --out " + Q(dir_ / "M" / "take.csv")).exit_code,
             0);
   ExpectError(Robossis("--force track-eval --mocap " + Q(dir_ / "M" / "take.csv") + " --rigid-body MovingRing " +
@@ -117,7 +97,7 @@ TEST_F(HostileOutputsTest, OutOverAnInputOfTheRunIsRefusedAndTheInputKept) {
   const std::string before = Read(reference);
   ExpectError(Robossis("mocap simulate --reference " + Q(reference) + " --out " + Q(reference)), "is --reference");
   EXPECT_EQ(Read(reference), before);
-  const fs::path data = DataDirWithLine("rsr.yaml", "");
+  const fs::path data = DataDirWith("rsr.yaml", [](const std::string& t) { return t; });
   const std::string hal_yaml = Read(data / "config" / "hal.yaml");
   ExpectError(Robossis("--data-dir " + Q(data) + " hal config --out " + Q(data / "config" / "hal.yaml")),
               "is inside --data-dir");
@@ -130,7 +110,7 @@ TEST_F(HostileOutputsTest, OutOverAnInputOfTheRunIsRefusedAndTheInputKept) {
 // --- Single output files: atomic, no temporary left, never a library's text -------------------------------------
 
 TEST_F(HostileOutputsTest, SingleOutputFilesRefuseFoldersAndLeaveNoTemporaries) {
-  const fs::path reference = Reference();
+  const fs::path reference = MovingReference();
   fs::create_directories(dir_ / "adir");
   ExpectError(Robossis("hal config --out " + Q(dir_ / "adir")),
               "--out: '" + (dir_ / "adir").string() + "' is a folder");
@@ -151,7 +131,7 @@ TEST_F(HostileOutputsTest, SingleOutputFilesRefuseFoldersAndLeaveNoTemporaries) 
 
 TEST_F(HostileOutputsTest, AFailedOrInterruptedAtlasNeverLooksComplete) {
   // A config the error measurement reads is refused before the build, and no atlas appears.
-  const fs::path data = DataDirWithLine("haptics.yaml", "bogus_key: 1");
+  const fs::path data = DataDirWith("haptics.yaml", [](const std::string& t) { return t + "bogus_key: 1\n"; });
   ExpectError(Robossis("--data-dir " + Q(data) + " workspace atlas --coarse --error-samples 2 --out " + Q(dir_ / "A")),
               "'bogus_key'");
   EXPECT_FALSE(fs::exists(dir_ / "A"));

@@ -42,7 +42,7 @@ class HostileReadersTest : public robossis::testing::HostileCliTest {
   // A short simulated session's log (its header and records as the flight recorder wrote them).
   std::string SessionLog() const {
     const fs::path out = dir_ / "session";
-    const std::string hand = (fs::path(ROBOSSIS_DATA_DIR) / "teleop" / "fast_hand.csv").string();
+    const std::string hand = (robossis::DefaultDataDir() / "teleop" / "fast_hand.csv").string();
     const CommandRun run = Robossis("teleop --device replay:" + Q(hand) + " --method proxy-safe --follower sim "
                                     "--rate-hz 1000 --duration-s 0.2 --clock simulated --no-plots --out " + Q(out));
     EXPECT_EQ(run.exit_code, 0) << run.output;
@@ -68,7 +68,7 @@ TEST_F(HostileReadersTest, NonRegularFilesAreRefusedBeforeAnyRead) {
   }
   const fs::path data = dir_ / "data";
   fs::create_directories(data);
-  fs::copy(fs::path(ROBOSSIS_DATA_DIR) / "config", data / "config", fs::copy_options::recursive);
+  fs::copy(robossis::DefaultDataDir() / "config", data / "config", fs::copy_options::recursive);
   fs::remove(data / "config" / "rsr.yaml");
   ASSERT_EQ(::mkfifo((data / "config" / "rsr.yaml").c_str(), 0600), 0);
   ExpectError(Robossis("--data-dir " + Q(data) + " robot info"), "expected a regular file (YAML config file)");
@@ -77,7 +77,7 @@ TEST_F(HostileReadersTest, NonRegularFilesAreRefusedBeforeAnyRead) {
 TEST_F(HostileReadersTest, ASecondYamlDocumentIsRefusedWithItsLine) {
   const fs::path data = dir_ / "data";
   fs::create_directories(data);
-  fs::copy(fs::path(ROBOSSIS_DATA_DIR) / "config", data / "config", fs::copy_options::recursive);
+  fs::copy(robossis::DefaultDataDir() / "config", data / "config", fs::copy_options::recursive);
   const std::string rsr = Read(data / "config" / "rsr.yaml");
   std::size_t lines = 0;
   for (char c : rsr) lines += c == '\n';
