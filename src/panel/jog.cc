@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "src/core/units.h"
+#include "src/teleop/move_validation.h"
 
 namespace robossis::panel {
 namespace {
@@ -77,32 +78,28 @@ JogVerdict PreviewJog(const robot::RsrModel& model, const Eigen::Isometry3d& X_F
   verdict.X_FM_end = move.X_FM_end();
   const bool rotational = IsRotational(request.axis);
   verdict.peak_speed = rotational ? move.peak_angular_speed_rad_s() : move.peak_linear_speed_m_s();
-  // Every sample through the one validated path, as the follower will check them.
-  teleop::SetPointValidator validator(model, limits.setpoint);
-  const int samples = std::max(1, limits.path_samples);
-  bool first = true;
-  for (int k = 0; k <= samples; ++k) {
-    const double t = duration_s * k / samples;
-    const transfer::RsrSetPoint set_point = move.Evaluate(t);  // eq. 9
-    const teleop::SetPointVerdict check = validator.Check({t, set_point.X_FM, set_point.velocity});
-    const robot::RsrLimitCheck& tightest = validator.tightest();
-    if (first || tightest.margin < verdict.tightest.margin) verdict.tightest = tightest;
-    first = false;
-    if (check == teleop::SetPointVerdict::kAccepted) continue;
+  const teleop::PathVerdict check = teleop::ValidateMove(move, model, limits.setpoint, limits.actuation_rate_hz);
+  verdict.tightest = check.tightest;
+  if (!check.ok()) {
     char text[200];
-    if (check == teleop::SetPointVerdict::kInfeasible) {
-      std::snprintf(text, sizeof text, "the move leaves the workspace at %.0f %% of its path: ", 100.0 * k / samples);
-      verdict.reason = text + DescribeLimit(tightest);
-    } else if (check == teleop::SetPointVerdict::kTooFast) {
+    const double scale = rotational ? kRadToDeg : kMToMm;
+    const char* unit = rotational ? "deg/s" : "mm/s";
+    if (check.verdict == teleop::SetPointVerdict::kInfeasible) {
+      std::snprintf(text, sizeof text, "the move leaves the workspace at %.0f %% of its path: ",
+                    duration_s > 0 ? 100.0 * check.time_s / duration_s : 100.0);
+      verdict.reason = text + DescribeLimit(check.tightest);
+    } else if (check.shorter_than_a_tick) {
+      std::snprintf(text, sizeof text, "the move lasts %.3g s, less than one actuation tick (%.3g s): lengthen the "
+                    "time interval", duration_s, 1.0 / limits.actuation_rate_hz);
+      verdict.reason = text;
+    } else if (check.verdict == teleop::SetPointVerdict::kTooFast) {
       const double cap = rotational ? limits.setpoint.caps.max_angular_speed_rad_s
                                     : limits.setpoint.caps.max_linear_speed_m_s;
-      const double scale = rotational ? kRadToDeg : kMToMm;
-      const char* unit = rotational ? "deg/s" : "mm/s";
       std::snprintf(text, sizeof text, "peak speed %.3f %s exceeds the cap %.3f %s: lengthen the time interval",
                     verdict.peak_speed * scale, unit, cap * scale, unit);
       verdict.reason = text;
     } else {
-      verdict.reason = std::string("the move's set-points are refused: ") + teleop::ToString(check);
+      verdict.reason = std::string("the move's set-points are refused: ") + teleop::ToString(check.verdict);
     }
     return verdict;
   }

@@ -2,9 +2,10 @@
 // Manual jogs of the control panel (paper Fig. 13): one axis, an amount, and either the time interval or the speed
 // of the move, executed as the eq. 9 timed move (haptics/transfer/timed_move.h) from the follower's current pose.
 //
-// Before a jog starts the panel previews it: the whole eq. 9 path is sampled and every sample goes through the one
-// validated motion path (teleop::SetPointValidator: finite, inside the workspace by the exact IK eq. 5–8, within
-// the speed and acceleration caps); a jog that would leave the workspace or break a cap is refused with the reason.
+// Before a jog starts the panel previews it with the check `robossis move` uses (teleop::ValidateMove: the whole
+// eq. 9 path at every actuation tick by the exact IK eq. 5–8, at least one tick long, its peak speeds within the
+// caps, every sample through teleop::SetPointValidator); a jog that would leave the workspace or break a cap is
+// refused with the reason.
 // The follower checks every set-point of the move again on the same path as it runs.
 
 #include <string>
@@ -37,7 +38,7 @@ struct JogRequest {
 // What a jog must respect: the follower's set-point limits (follower.yaml, caps from transfer.yaml).
 struct JogLimits {
   teleop::SetPointLimits setpoint;
-  int path_samples = 200;  // panel.yaml jog.path_samples: eq. 9 path samples the preview checks
+  double actuation_rate_hz = 10000;  // transfer.yaml rates.actuation_rate_hz: the preview checks every tick
 };
 
 struct JogVerdict {
@@ -55,7 +56,7 @@ struct JogVerdict {
 transfer::TimedMoveRequest ToTimedMoveRequest(const JogRequest& request, double start_time_s);
 double JogDuration(const JogRequest& request);
 
-// The preview: the path from X_FM_start, sampled, checked against the joint limits and the caps.
+// The preview: the path from X_FM_start checked by teleop::ValidateMove against the joint limits and the caps.
 JogVerdict PreviewJog(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM_start, const JogRequest& request,
                       const JogLimits& limits);
 

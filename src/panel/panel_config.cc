@@ -16,7 +16,6 @@ PanelConfig PanelConfig::FromConfig(const ConfigNode& root) {
   const ConfigNode plots = root.Child("plots");
   config.plot_window_s = plots.NumberInRange("window_s", 0.5, 600);
   config.plot_capacity_samples = static_cast<int>(plots.NumberInRange("capacity_samples", 16, 1e6));
-  config.jog_path_samples = static_cast<int>(root.Child("jog").NumberInRange("path_samples", 2, 1e6));
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return config;
 }

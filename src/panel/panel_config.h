@@ -14,7 +14,6 @@ struct PanelConfig {
   int window_height_px = 900;
   double plot_window_s = 10;
   int plot_capacity_samples = 2000;
-  int jog_path_samples = 200;
 
   // Throws std::runtime_error naming the file and key.
   static PanelConfig FromYaml(const std::filesystem::path& file);

@@ -14,6 +14,7 @@
 #include "haptics/transfer/motion_transfer.h"
 #include "haptics/transfer/timed_move.h"
 #include "robot/actuation/actuator.h"
+#include "src/teleop/move_validation.h"
 #include "robot/feasible_motion.h"
 #include "src/teleop/setpoint_validator.h"
 
@@ -80,10 +81,8 @@ struct ChainSetup {
 // pose of `model` (which must outlive the setup).
 ChainSetup LoadChainSetup(const std::filesystem::path& config_dir, const robot::RsrModel& model);
 
-// The first set-point of an eq. 9 move, sampled at the actuation rate, that breaks a limit: first the exact IK of
-// every sample (the whole path, cones included, the end pose always), then the move's length (a move that changes
-// the pose in less than one actuation tick is refused: kTooFast with `shorter_than_a_tick`), then the peak speeds
-// of its profile (eq. 9) against the caps (kTooFast at mid-move), then every sample through the validator.
+// ValidateMove (src/teleop/move_validation.h) with the chain's model, follower limits, transfer caps and actuation
+// rate.
 PathVerdict ValidateMove(const transfer::TimedMove& move, const ChainSetup& setup);
 // The shortest duration of `request` that ValidateMove accepts as to speed: the caps at eq. 9's peak speeds, and
 // at least one actuation tick (0 for no change).

@@ -58,6 +58,24 @@ TEST(JogPreview, RefusesAMoveFasterThanTheCap) {
   EXPECT_NE(verdict.reason.find("exceeds the cap"), std::string::npos) << verdict.reason;
 }
 
+TEST(JogPreview, RefusesAMoveShorterThanOneActuationTickWhateverItsEndPose) {
+  // The check `robossis move` uses: a jog that would change the pose within one tick has no sample inside it.
+  const robot::RsrModel model = Model();
+  JogRequest request;
+  request.axis = JogAxis::kZ;
+  request.amount = MmToM(1e-4);
+  request.duration_s = 1e-6;  // under one 10 kHz tick
+  JogLimits limits;
+  limits.setpoint.caps.max_linear_speed_m_s = 1e9;  // so that only the length can refuse it
+  const JogVerdict verdict = PreviewJog(model, model.geometry().X_FM_home, request, limits);
+  EXPECT_FALSE(verdict.accepted);
+  EXPECT_NE(verdict.reason.find("less than one actuation tick"), std::string::npos) << verdict.reason;
+  request.amount = MmToM(200);  // and far beyond the stroke: the path check names the workspace first
+  const JogVerdict far = PreviewJog(model, model.geometry().X_FM_home, request, limits);
+  EXPECT_FALSE(far.accepted);
+  EXPECT_NE(far.reason.find("leaves the workspace"), std::string::npos) << far.reason;
+}
+
 TEST(JogPreview, SpeedTimingGivesTheEq9Interval) {
   JogRequest request;
   request.axis = JogAxis::kX;

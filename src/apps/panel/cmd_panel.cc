@@ -45,7 +45,8 @@ panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& mod
   caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
   panel::JogLimits limits;
   limits.setpoint = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps).setpoint;
-  limits.path_samples = models.config.jog_path_samples;
+  limits.actuation_rate_hz =
+      transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml")).rates.actuation_rate_hz;
   return limits;
 }
 
