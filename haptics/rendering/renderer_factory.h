@@ -31,8 +31,8 @@ namespace robossis::haptics {
 // haptic loop).
 enum class BackgroundWork { kSimulated, kThread };
 
-// Throws std::invalid_argument naming the method and listing the known ones (ParseMethodName). `atlas` is needed by "mesh" (and used
-// by "mesh-live" until its first refresh).
+// Throws std::invalid_argument naming the method and listing the known ones (ParseMethodName). `atlas` is needed
+// by "mesh" (and used by "mesh-live" until its first refresh).
 std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const HapticsConfig& config,
                                              const robot::RsrModel& model, const HcToRsrMap& map, double rate_hz,
                                              std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr,

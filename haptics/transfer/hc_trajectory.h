@@ -31,8 +31,9 @@ struct HcTrajectory {
 // CSV with a header: time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg[,clutch][,arrival_s] (any column order; an
 // unknown or repeated column is an error), read by the strict src/core/csv.h reader: exactly one cell per column,
 // time_s in [0, kMaxHcTimeS] and never decreasing (equal stamps are allowed: a repeated sample), arrival_s within
-// kMaxHcArrivalDelayS after time_s, |x|,|y|,|z| <= kMaxHcPositionMm, |angles| <= kMaxHcAngleDeg, 2 to kMaxHcRows rows. Throws std::runtime_error "FILE line N, column C (name):
-// got 'V'; expected ...". The bounds keep a transfer run to minutes, checked before it starts.
+// kMaxHcArrivalDelayS after time_s, |x|,|y|,|z| <= kMaxHcPositionMm, |angles| <= kMaxHcAngleDeg, 2 to kMaxHcRows
+// rows. Throws std::runtime_error "FILE line N, column C (name): got 'V'; expected ...". The bounds keep a
+// transfer run to minutes, checked before it starts.
 inline constexpr double kMaxHcTimeS = 600.0;
 inline constexpr double kMaxHcArrivalDelayS = 10.0;
 inline constexpr std::size_t kMaxHcRows = 1'000'000;

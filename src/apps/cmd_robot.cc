@@ -143,7 +143,8 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
   auto st_json = std::make_shared<bool>(false);
   st_pose->Add(statics);
   statics->add_option("--wrench", *st_wrench, "External wrench on the moving ring at P, in the fixed frame: "
-                                              "FX_N,FY_N,FZ_N,TX_NM,TY_NM,TZ_NM; forces within +/-1e6 N, moments within +/-1e5 N m")
+                                              "FX_N,FY_N,FZ_N,TX_NM,TY_NM,TZ_NM; forces within +/-1e6 N, moments "
+                                              "within +/-1e5 N m")
       ->required();
   statics->add_flag("--json", *st_json, "Machine-readable output");
   statics->callback([&context, st_pose, st_wrench, st_json] {

@@ -197,8 +197,8 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
       ->required();
   a->add_flag("--coarse", at->coarse, "A small, coarse atlas (seconds; for tests and trials)");
   a->add_option("--error-samples", at->error_samples,
-                "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip); at most " +
-                    std::to_string(geometry::kMaxErrorSamples))
+                "Poses per case for the grid-spacing error measurement written to atlas_error.json (0: skip); "
+                "at most " + std::to_string(geometry::kMaxErrorSamples))
       ->capture_default_str();
   a->callback([&context, at] {
     const int error_samples = geometry::RequireErrorSamples(at->error_samples, "--error-samples");

@@ -46,7 +46,8 @@ std::string PermissionsXml(Role role, const std::string& subject_name, const std
                            const std::string& not_before, const std::string& not_after);
 
 // Makes the credentials in `dir` (which must not exist or be empty). The options are checked
-// (ValidateKeysInitOptions) before anything is written; everything is made in a staging folder and moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
+// (ValidateKeysInitOptions) before anything is written; everything is made in a staging folder and moved in only
+// when complete. Throws std::runtime_error naming the openssl step that failed.
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
 
 }  // namespace robossis::link

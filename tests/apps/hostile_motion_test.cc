@@ -44,7 +44,8 @@ TEST_F(HostileMotionTest, AMoveShorterThanOneTickIsRefusedNamingDurationS) {
   EXPECT_FALSE(fs::exists(Out()));
   // Half a tick, and a peak speed that makes the move last a femtosecond.
   ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,0.0001 --duration-s 5e-5")), "shorter than one actuation tick");
-  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "the duration of --speed-mm-s/--speed-deg-s");
+  ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")),
+              "the duration of --speed-mm-s/--speed-deg-s");
   ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --speed-mm-s 1e300")), "shorter than one actuation tick");
   EXPECT_FALSE(fs::exists(Out()));
 }
@@ -75,10 +76,12 @@ TEST_F(HostileMotionTest, SpeedCapsAreBoundedOnEveryCommandThatTakesThem) {
   ExpectError(RunBounded(MoveArgs("--delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s nan")), linear + "nan mm/s");
   ExpectError(RunBounded(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s 1e300")),
               angular + "1e+300 deg/s");
-  ExpectError(RunBounded(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s -1")), angular + "-1 deg/s");
+  ExpectError(RunBounded(MoveArgs("--delta-deg 0,0,1 --duration-s 1 --max-angular-speed-deg-s -1")),
+              angular + "-1 deg/s");
   ExpectError(RunBounded("transfer --scenario slow --no-plots --max-speed-mm-s 1e300 --out " + Q(Out())),
               linear + "1e+300 mm/s");
-  ExpectError(RunBounded("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots --max-speed-mm-s 1e300 "
+  ExpectError(RunBounded("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots "
+                         "--max-speed-mm-s 1e300 "
                   "--out " + Q(Out())),
               linear + "1e+300 mm/s");
   ExpectError(RunBounded("teleop --clock simulated --follower recorder --duration-s 0.1 --no-plots "
@@ -186,7 +189,8 @@ TEST_F(HostileMotionTest, MethodListsWithEmptyEntriesAreRefusedWithTheKnownMetho
   const std::string known = "known: pointcloud, pointcloud-safe, pointcloud-pc, mesh, mesh-live, mesh-proxy, proxy, "
                             "proxy-safe, proxy-pc";
   for (const std::string& list : std::vector<std::string>{"proxy,", ",proxy", "proxy,,pointcloud", ","}) {
-    const CommandRun run = RunBounded("render-compare --fast --scenario strike --methods " + Q(list) + " --out " + Q(Out()));
+    const CommandRun run =
+        RunBounded("render-compare --fast --scenario strike --methods " + Q(list) + " --out " + Q(Out()));
     ExpectError(run, "--methods: empty entry");
     EXPECT_THAT(run.output, HasSubstr(known)) << list;
   }
@@ -204,7 +208,8 @@ TEST_F(HostileMotionTest, AnEmptyOrUnknownMethodNameIsRefusedEverywhere) {
   // An empty --method ran the haptics.yaml default silently.
   ExpectError(RunBounded(session + "--method '' --out " + Q(Out())),
               "--method: expected a rendering method, got an empty name; known: pointcloud");
-  ExpectError(RunBounded(session + "--method 'proxy,' --out " + Q(Out())), "--method: unknown method 'proxy,'; known: ");
+  ExpectError(RunBounded(session + "--method 'proxy,' --out " + Q(Out())),
+              "--method: unknown method 'proxy,'; known: ");
   EXPECT_FALSE(fs::exists(Out()));
   const fs::path data = DataDirWith("haptics.yaml", [](const std::string& t) {
     const std::size_t at = t.find("hardware_default_method:");

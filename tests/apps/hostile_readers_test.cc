@@ -144,7 +144,9 @@ TEST_F(HostileReadersTest, SessionLogWithAbsurdRecordOrInfiniteHeaderIsRefused) 
     }
   }
   std::size_t pos = 12 + length;
-  while (pos < log.size() && static_cast<unsigned char>(log[pos]) != 0) pos += 1 + sizes.at(static_cast<unsigned char>(log[pos]));
+  while (pos < log.size() && static_cast<unsigned char>(log[pos]) != 0) {
+    pos += 1 + sizes.at(static_cast<unsigned char>(log[pos]));
+  }
   ASSERT_LT(pos, log.size());
   for (const double bad : {1e300, std::nan("")}) {
     std::string corrupt = log;
