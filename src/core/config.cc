@@ -8,6 +8,8 @@
 #include <string_view>
 #include <system_error>
 
+#include <yaml-cpp/eventhandler.h>
+
 #include "src/core/files.h"
 
 namespace robossis {
@@ -68,6 +70,27 @@ void RejectDuplicateKeys(const YAML::Node& node, const std::string& file, const 
 
 // The 1-based line of the marker that starts the second document: a "---" at the start of a line (YAML allows a
 // document marker nowhere else), the first one if content came before it, else the second.
+// The number of YAML documents in `text`, counted up to 2. Not YAML::LoadAll: on some malformed inputs its parser
+// reports empty documents without end, and LoadAll never returns (found by fuzz_yaml_configs).
+int DocumentsUpToTwo(const std::string& text) {
+  struct Ignore : YAML::EventHandler {
+    void OnDocumentStart(const YAML::Mark&) override {}
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+    void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+    void OnMapEnd() override {}
+  } ignore;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  int documents = 0;
+  while (documents < 2 && parser.HandleNextDocument(ignore)) ++documents;
+  return documents;
+}
+
 int SecondDocumentLine(const std::string& text) {
   int line = 0, markers = 0;
   bool content_before_marker = false;
@@ -100,18 +123,19 @@ ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": config file not found");  // the usual mistake, said plainly
   }
   const std::string text = ReadBoundedFile(file, kMaxFileBytes, "YAML config file");
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
+  int documents = 0;
   try {
-    documents = YAML::LoadAll(text);
+    documents = DocumentsUpToTwo(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(file.string() + ": not valid YAML: " + e.what());
   }
-  if (documents.size() > 1) {
+  if (documents > 1) {
     // A second document would be ignored by every loader: the file says two things and only one would count.
     throw std::runtime_error(file.string() + " line " + std::to_string(SecondDocumentLine(text)) +
                              ": a second YAML document ('---'); expected one document per config file");
   }
-  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping at the top level");
   RejectDuplicateKeys(root, file.string(), "");
   return ConfigNode(root, file.string(), "");
