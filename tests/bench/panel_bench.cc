@@ -38,7 +38,8 @@ void PanelFrame(benchmark::State& state, int width, int height, bool bone, bool 
                            panel::PanelConfig::FromYaml(config / "panel.yaml"),
                            {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
                            nullptr,
-                           haptics::HapticsConfig::FromYaml(config / "haptics.yaml").hardware_default_method};
+                           haptics::HapticsConfig::FromYaml(config / "haptics.yaml").hardware_default_method,
+                           transfer.rates.actuation_rate_hz};
   if (bone) models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
   const rt::MonotonicClock clock;
   const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), models.rsr, models.hc);

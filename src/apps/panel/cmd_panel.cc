@@ -31,7 +31,8 @@ PanelModels LoadPanelModels(const AppContext& context, bool with_bone) {
                      panel::PanelConfig::FromYaml(context.ConfigPath("panel.yaml")),
                      {transfer.caps.max_linear_speed_m_s, transfer.caps.max_angular_speed_rad_s},
                      nullptr,
-                     haptics::HapticsConfig::FromYaml(context.ConfigPath("haptics.yaml")).hardware_default_method};
+                     haptics::HapticsConfig::FromYaml(context.ConfigPath("haptics.yaml")).hardware_default_method,
+                     transfer.rates.actuation_rate_hz};
   if (with_bone) {
     const sim::SimConfig sim_config = sim::LoadSimConfig(context.ConfigPath("sim.yaml"), context.data_dir);
     models.fragments = std::make_shared<const sim::BoneFragments>(sim::BuildBoneFragments(sim_config, models.rsr));
@@ -45,8 +46,7 @@ panel::JogLimits LoadJogLimits(const AppContext& context, const PanelModels& mod
   caps.max_angular_speed_rad_s = models.demonstration_caps.max_angular_speed_rad_s;
   panel::JogLimits limits;
   limits.setpoint = teleop::FollowerConfig::FromYaml(context.ConfigPath("follower.yaml"), caps).setpoint;
-  limits.actuation_rate_hz =
-      transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml")).rates.actuation_rate_hz;
+  limits.actuation_rate_hz = models.actuation_rate_hz;
   return limits;
 }
 

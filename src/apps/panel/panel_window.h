@@ -64,6 +64,7 @@ struct PanelModels {
   panel::SpeedCapValues demonstration_caps;
   std::shared_ptr<const sim::BoneFragments> fragments;  // may be null
   std::string default_method;  // haptic mode's rendering method at start (haptics.yaml hardware_default_method)
+  double actuation_rate_hz = 0;  // transfer.yaml rates.actuation_rate_hz: the jog preview checks every tick
 };
 
 // The window, one frame at a time (the benchmark times Frame()).
