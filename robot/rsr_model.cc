@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -11,16 +10,13 @@
 
 #include "robot/rsr_kinematics.h"
 #include "src/core/config.h"
+#include "src/core/parse.h"
 #include "src/core/units.h"
 
 namespace robossis::robot {
 
 namespace {
-std::string FormatNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+std::string Num(double v) { return FormatNumber(v, "%.4g"); }
 void Require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("RSR geometry: " + message);
 }
@@ -42,8 +38,8 @@ RsrModel::RsrModel(const RsrGeometry& geometry) : geometry_(geometry) {
       const double separation = std::min(d, 2 * kPi - d);
       Require(separation >= kMinArmSeparationRad - 1e-12,
               "geometry.arm_angles_deg: arms " + std::to_string(i + 1) + " and " + std::to_string(j + 1) + " are " +
-                  FormatNumber(RadToDeg(separation)) + " deg apart; expected at least " +
-                  FormatNumber(RadToDeg(kMinArmSeparationRad)) + " deg (closer arms make the ring's pose degenerate)");
+                  Num(RadToDeg(separation)) + " deg apart; expected at least " +
+                  Num(RadToDeg(kMinArmSeparationRad)) + " deg (closer arms make the ring's pose degenerate)");
     }
   }
   Require(lim.stroke_min_m > 0 && lim.stroke_min_m < lim.stroke_max_m,
@@ -69,8 +65,8 @@ RsrModel::RsrModel(const RsrGeometry& geometry) : geometry_(geometry) {
     if (sv(5) > 0) condition = sv(0) / sv(5);
   }
   Require(condition <= kMaxHomeJacobianCondition,
-          "home_pose: the Jacobian's condition number there is " + FormatNumber(condition) + "; expected at most " +
-              FormatNumber(kMaxHomeJacobianCondition) + " (a near-singular home pose)");
+          "home_pose: the Jacobian's condition number there is " + Num(condition) + "; expected at most " +
+              Num(kMaxHomeJacobianCondition) + " (a near-singular home pose)");
 }
 
 RsrModel RsrModel::FromYaml(const std::filesystem::path& file) {

@@ -1,22 +1,18 @@
 #include "haptics/transfer/transfer_config.h"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 #include "src/core/config.h"
+#include "src/core/parse.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
 
 namespace robossis::transfer {
 
 namespace {
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
+std::string Num(double v) { return FormatNumber(v); }
 
 void Require(bool ok, const std::string& field, const std::string& expected, double value) {
   if (!ok) {

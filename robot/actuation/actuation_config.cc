@@ -1,21 +1,17 @@
 #include "robot/actuation/actuation_config.h"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 #include "src/core/config.h"
+#include "src/core/parse.h"
 #include "src/core/units.h"
 
 namespace robossis::actuation {
 
 namespace {
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
+std::string Num(double v) { return FormatNumber(v); }
 }  // namespace
 
 void ActuationConfig::Validate() const {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "robot/drivers/hal_names.h"
+#include "src/core/parse.h"
 
 namespace robossis::drivers {
 namespace {
@@ -15,11 +16,7 @@ constexpr const char* kJointLabels[actuation::kNumMotors] = {
 };
 
 // Enough digits that the file reproduces the config's doubles to well below one step over the whole stroke.
-std::string Num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
+std::string Num(double v) { return FormatNumber(v, "%.12g"); }
 
 std::string Join(int count, const std::string& item) {
   std::string out;

@@ -69,10 +69,4 @@ std::string FormatFixed(double v, int decimals) {
   return buf;
 }
 
-std::string FormatNumber(double v, const char* printf_format) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, printf_format, v);
-  return buf;
-}
-
 }  // namespace robossis::apps

@@ -20,11 +20,7 @@ namespace robossis::apps {
 namespace {
 
 // A number for a message, as printf formats it.
-std::string Num(double v, const char* format = "%g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string Num(double v, const char* format = "%g") { return FormatNumber(v, format); }
 
 // [assumed] The longest move the command line accepts: an hour (a 25 deg turn at the clinical 0.2 deg/s takes
 // 3.5 min); checked before any work starts.

@@ -9,6 +9,7 @@
 
 #include "src/apps/app_context.h"
 #include "src/core/files.h"
+#include "src/core/parse.h"
 
 namespace robossis::apps {
 
@@ -26,9 +27,9 @@ struct DemoContext {
 };
 
 // The sections, in report order.
-// Numbers in the report: fixed decimals, or a printf format for one double ("%.3g").
+// Numbers in the report: fixed decimals (FormatFixed), or a printf format for one double (FormatNumber of
+// src/core/parse.h, "%.3g").
 std::string FormatFixed(double v, int decimals);
-std::string FormatNumber(double v, const char* printf_format);
 
 void WriteRobotSection(DemoContext& demo);      // ## 1. The robots (robot/)
 void WriteWorkspaceSection(DemoContext& demo);  // ## 2. Workspaces (geometry/)

@@ -2,9 +2,16 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace robossis {
+
+std::string FormatNumber(double value, const char* printf_format) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, printf_format, value);
+  return buf;
+}
 
 std::string_view TrimField(std::string_view s) {
   const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '"' || c == '\r'; };

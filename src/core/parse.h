@@ -7,6 +7,9 @@
 
 namespace robossis {
 
+// `value` as printf's `printf_format` (one double conversion) prints it: the numbers of error messages and reports.
+std::string FormatNumber(double value, const char* printf_format = "%g");
+
 // Parses a comma-separated list of exactly `count` finite numbers. Throws std::invalid_argument:
 // "--pose: expected 6 comma-separated numbers (X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG), got 5 in '1,2,3,4,5'".
 std::vector<double> ParseNumberList(std::string_view text, std::size_t count, const std::string& option_name,
