@@ -4,12 +4,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
+
+#include "src/core/files.h"
 
 namespace robossis::sim {
 
@@ -55,6 +56,11 @@ TriangleMesh ReadBinaryStl(const std::string& bytes, const std::string& name) {
       float xyz[3];
       std::memcpy(xyz, rec + 12 + 12 * v, 12);
       p[v] = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+      // A NaN coordinate would break the welder's ordering of vertices (and every mass property after it).
+      if (!p[v].allFinite()) {
+        throw std::runtime_error(name + ": binary STL facet " + std::to_string(f + 1) + " vertex " +
+                                 std::to_string(v + 1) + ": expected three finite coordinates");
+      }
     }
     welder.AddTriangle(p);
   }
@@ -64,11 +70,7 @@ TriangleMesh ReadBinaryStl(const std::string& bytes, const std::string& name) {
 }  // namespace
 
 TriangleMesh ReadStl(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open STL file");
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  const std::string bytes = buf.str();
+  const std::string bytes = ReadBoundedFile(file, kMaxStlFileBytes, "STL mesh");
   const bool ascii = bytes.compare(0, 5, "solid") == 0 && bytes.find("facet") != std::string::npos;
   TriangleMesh mesh;
   if (!ascii) {

@@ -3,6 +3,7 @@
 // faces, mass properties of a closed mesh, and the point sets of the convex slabs used as Bullet collision hulls.
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -19,8 +20,12 @@ struct TriangleMesh {
   void Transform(const Eigen::Isometry3d& X);
 };
 
-// Reads an ASCII or binary STL; vertices with identical coordinates are merged. Throws std::runtime_error naming
-// the file on a missing file, a malformed line or an empty mesh.
+// The size bound of an STL file: 80 times the shipped femur (FemurR.stl, 3.3 MB), far below the machine's memory.
+inline constexpr std::uintmax_t kMaxStlFileBytes = std::uintmax_t{256} << 20;  // 256 MiB
+
+// Reads an ASCII or binary STL (through ReadBoundedFile: a regular file within kMaxStlFileBytes); vertices with
+// identical coordinates are merged. Throws std::runtime_error naming the file on a missing or non-regular file, a
+// malformed line, a non-finite coordinate or an empty mesh.
 TriangleMesh ReadStl(const std::filesystem::path& file);
 
 // ASCII STL text; `header` goes on the `solid` line (used to mark altered meshes).

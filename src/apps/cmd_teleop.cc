@@ -217,7 +217,8 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
   };
   auto r = std::make_shared<ReplayOptions>();
   CLI::App* replay = app.add_subcommand("replay", "A session log (robossis teleop) back into CSV, summary and figures");
-  replay->add_option("LOG", r->log, "Session log (DIR/session.rlog)")->required()->check(CLI::ExistingFile);
+  // No CLI11 file check: the log's reader refuses a missing or non-regular file in the project's words.
+  replay->add_option("LOG", r->log, "Session log (DIR/session.rlog)")->required();
   replay->add_option("--out", r->out, "Output folder (written atomically)")->required();
   replay->add_flag("--no-plots", r->no_plots, "Skip the figure");
   replay->add_flag("--json", r->json, "Print summary.json to stdout");

@@ -1,9 +1,10 @@
 #include "src/panel/script.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "src/core/files.h"
 
 namespace robossis::panel {
 namespace {
@@ -63,11 +64,13 @@ std::vector<ScriptAction> ParseScript(const std::string& text, const std::string
 }
 
 std::vector<ScriptAction> LoadScript(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::invalid_argument("--script: cannot read " + file.string());
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return ParseScript(buffer.str(), file.string());
+  std::string text;
+  try {
+    text = ReadBoundedFile(file, kMaxScriptFileBytes, "panel script");
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(std::string("--script: ") + e.what());
+  }
+  return ParseScript(text, file.string());
 }
 
 }  // namespace robossis::panel

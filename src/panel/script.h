@@ -10,6 +10,7 @@
 //   3.5  quit
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -29,7 +30,11 @@ struct ScriptAction {
 // Parses a script's text; `source` names it in errors. Throws std::invalid_argument naming the source, the line and
 // what was expected.
 std::vector<ScriptAction> ParseScript(const std::string& text, const std::string& source);
-std::vector<ScriptAction> LoadScript(const std::filesystem::path& file);  // also throws if it cannot be read
+// A script is a few hundred lines; the bound keeps a wrong file (a video, /dev/zero) from being read at all.
+inline constexpr std::uintmax_t kMaxScriptFileBytes = std::uintmax_t{1} << 20;  // 1 MiB
+// Reads `file` through ReadBoundedFile (a regular file within kMaxScriptFileBytes), then ParseScript. Throws
+// std::invalid_argument starting "--script: " when it cannot be read.
+std::vector<ScriptAction> LoadScript(const std::filesystem::path& file);
 
 class ScriptPlayer {
  public:

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "robot/follower.h"
 #include "robot/rsr_kinematics.h"
@@ -145,6 +146,20 @@ TEST(Script, ErrorsNameTheSourceLineAndExpectation) {
   EXPECT_THROW(ParseScript("1 jump\n", "s"), std::invalid_argument);
   EXPECT_THROW(ParseScript("1 set jog.axis\n", "s"), std::invalid_argument);
   EXPECT_THROW(ParseScript("1 quit now\n", "s"), std::invalid_argument);
+}
+
+TEST(Script, AFileThatIsNotARegularFileIsRefusedBeforeAnyRead) {
+  // /dev/zero read until out of memory before, and a directory read as an empty script.
+  for (const std::string& file : {std::string("/dev/zero"), ::testing::TempDir(), std::string("/nonexistent/s.txt")}) {
+    try {
+      LoadScript(file);
+      FAIL() << file;
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("--script: ", 0), 0u) << what;
+      EXPECT_NE(what.find(file.substr(0, file.find_last_not_of('/') + 1)), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(PlotBuffer, KeepsTheNewestSamplesInOrder) {

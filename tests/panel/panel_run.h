@@ -34,7 +34,10 @@ inline std::filesystem::path TestDir(const std::string& name) {
 inline PanelRun RunPanel(const std::filesystem::path& dir, const std::string& script, const std::string& extra = "") {
   const std::filesystem::path script_file = dir / "script.txt";
   std::ofstream(script_file) << script;
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 timeout 300 xvfb-run -a -s '-screen 0 1920x1080x24' " +
+  // The X authority file in the test's folder (-f): without it xvfb-run makes a temporary folder of its own and,
+  // now and then when the program exits at once, fails to remove it and exits 5 whatever the program returned.
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 timeout 300 xvfb-run -a -f " + (dir / "Xauthority").string() +
+                              " -s '-screen 0 1920x1080x24' " +
                               std::string(ROBOSSIS_BINARY) +
                               " panel --script " + script_file.string() + " --json " + extra + " 2>" +
                               (dir / "stderr.txt").string();

@@ -1,6 +1,11 @@
 // The femur mesh, its mid-shaft cut into two closed fragments, and the mass properties used for the ring's inertia.
 
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -91,6 +96,33 @@ TEST(BoneMeshTest, MissingOrEmptyStlNamesTheFile) {
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/bone.stl"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BoneMeshTest, ABinaryStlWithANonFiniteCoordinateOrADirectoryIsRefused) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "bone_mesh_test";
+  std::filesystem::create_directories(dir);
+  // One facet: normal, three vertices, attribute count; the second vertex's y is NaN.
+  std::string stl(80, ' ');
+  const std::uint32_t count = 1;
+  stl.append(reinterpret_cast<const char*>(&count), 4);
+  const float facet[12] = {0, 0, 1, 0, 0, 0, 1, std::nanf(""), 0, 0, 1, 0};
+  stl.append(reinterpret_cast<const char*>(facet), sizeof facet);
+  stl.append(2, '\0');
+  const std::filesystem::path file = dir / "nan.stl";
+  std::ofstream(file, std::ios::binary) << stl;
+  try {
+    ReadStl(file);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("facet 1 vertex 2: expected three finite coordinates"), std::string::npos)
+        << e.what();
+  }
+  try {
+    ReadStl(dir);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a regular file"), std::string::npos) << e.what();
   }
 }
 

@@ -71,8 +71,8 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
       "The control panel (Fig. 13): jog (eq. 9), haptic mode, E-stop, 3-D view, gauges; over its own follower unit "
       "(simulated, or the robot's HAL drives) or a remote one over DDS.\n"
       "Example: xvfb-run -a robossis panel --script jog.txt --screenshot panel.png --json");
-  cmd->add_option("--script", options->script, "Timed UI actions to play (see src/panel/script.h)")
-      ->check(CLI::ExistingFile);
+  // No CLI11 file check: LoadScript refuses a missing or non-regular file in the project's words.
+  cmd->add_option("--script", options->script, "Timed UI actions to play (see src/panel/script.h)");
   cmd->add_option("--screenshot", options->screenshot, "Save the last frame as this PNG");
   cmd->add_option("--frames", options->frames, "Exit after N frames")->check(CLI::NonNegativeNumber);
   cmd->add_option("--width", options->width, "Window width in pixels (default: panel.yaml)")->check(CLI::PositiveNumber);
