@@ -76,6 +76,10 @@ HapticsConfig HapticsConfig::FromConfig(const ConfigNode& root) {
   c.mesh_proxy.damping_fade_m = MmToM(mp.NumberInRange("damping_fade_mm", 0, 100));
   c.mesh_proxy.damping_fade_rad = DegToRad(mp.NumberInRange("damping_fade_deg", 0, 90));
   c.mesh_proxy.max_direction_step_rad = DegToRad(mp.NumberInRange("max_direction_step_deg", 0, 180));
+  c.mesh_proxy.force_rate.max_rate_n_per_s = mp.NumberInRange("max_force_rate_n_per_s", 0, 1e6);
+  c.mesh_proxy.force_rate.free_space_force_n = mp.NumberInRange("free_space_force_n", 0, 20);
+  c.mesh_proxy.force_rate.exit_speed_margin = mp.NumberInRange("exit_speed_margin", 1, 100);
+  c.mesh_proxy.force_rate.max_damping_ns_per_m = mp.NumberInRange("max_shaper_damping_ns_per_m", 0, 1000);
   try {
     c.hardware_default_method = ParseMethodName(root.String("hardware_default_method"), "hardware_default_method");
   } catch (const std::invalid_argument& e) {

@@ -21,7 +21,8 @@ MeshProxyRenderer::MeshProxyRenderer(const robot::RsrModel& model, const HcToRsr
       params_(params),
       atlas_(std::move(atlas)),
       live_(std::move(live)),
-      name_(name) {
+      name_(name),
+      shaper_(wall.k_f_n_per_m, limits.max_force_n, 1.0 / rate_hz, params.force_rate) {
   if (!atlas_ && !live_) throw std::invalid_argument("mesh-proxy: needs a boundary atlas or a live boundary");
   if (params.bisection_steps < 1 || params.search_expansions < 1 || !(params.search_step_m > 0) ||
       !(params.search_step_rad > 0) || !(params.max_extra_step_m >= 0) || !(params.max_extra_step_rad >= 0) ||
@@ -46,6 +47,7 @@ void MeshProxyRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   X_FM_previous_ = X_FM;
   translation_from_mesh_ = rotation_from_mesh_ = false;
   u_previous_.setZero();
+  shaper_.Reset();
   force_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_m);
   torque_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_rad);
 }
@@ -206,7 +208,14 @@ HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3
   WallLawParams law = wall_;
   law.c_f_ns_per_m *= force_damping_weight_;
   law.c_tau_nms_per_rad *= torque_damping_weight_;
-  f_F = WallForce(law, d_F, state.v_F);        // eq. 18 with d = proxy − HC
+  // eq. 18 with d = proxy − HC, through the force-rate shaper (eq. 18 itself when it is off). The orientation is
+  // back inside when θ has closed at the rate ω turns the hand toward the proxy (never if it is inside already:
+  // then only the position decides).
+  const double theta = theta_F.norm();
+  f_F = shaper_.Shape(state.X_FM.translation(), state.v_F, X_FP_.translation(), law.c_f_ns_per_m,
+                      shaper_.enabled() && robot::IsPoseFeasible(model_, state.X_FM),
+                      theta > 0 ? shaper_.EntryTime(theta, state.w_F.dot(theta_F / theta)) : ForceRateShaper::kNever);
+  if (wall_.c_f_ns_per_m > 0) force_damping_weight_ = shaper_.applied_damping_ns_per_m() / wall_.c_f_ns_per_m;
   tau_F = WallTorque(law, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
   const bool contact = d_F.squaredNorm() > 1e-18 || theta_F.squaredNorm() > 1e-18;
   return contact ? HapticStatus::kContact : HapticStatus::kFree;

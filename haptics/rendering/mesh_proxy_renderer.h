@@ -21,12 +21,14 @@
 // Wrench: the virtual coupling of the proxy method, F = k_f·(p_P − p_HC) − w_f·c_f·v, τ = k_τ·log(R_P·R_HCᵀ) −
 // w_τ·c_τ·ω (eq. 18–19 with d = proxy offset): zero at the true boundary, growing continuously, no moving average.
 // w = min(1, depth / damping_fade) in contact and 0 in free space (w = 1 everywhere with damping_fade = 0: the
-// paper's law). ContactDampingWeight below.
+// paper's law). ContactDampingWeight below. With MeshProxyParams::force_rate on, the spring is that of the
+// ForceRateShaper's attachment, which follows the proxy only as fast as the force may change, never actively.
 
 #include <memory>
 
 #include "geometry/boundary_atlas.h"
 #include "geometry/live_boundary.h"
+#include "haptics/rendering/force_rate_shaper.h"
 #include "haptics/rendering/haptic_types.h"
 #include "haptics/rendering/wall_law.h"
 
@@ -57,6 +59,9 @@ struct MeshProxyParams {
   // with a limit > 0 the direction of the line along which the IK finds the true boundary turns toward the mesh's
   // new nearest-point direction by at most this angle (rad) per tick. The proxy stays on the true boundary.
   double max_direction_step_rad = 0;
+  // The force-rate shaper between the proxy and the displayed force (off with max_rate_n_per_s = 0): the force
+  // changes by at most that rate, passively, and unloads before a fast hand leaves the wall (ForceRateShaper).
+  ForceRateShaperParams force_rate;
 };
 
 // The weight of the damper at a proxy offset `depth` (m or rad): 1 with fade <= 0 (the paper's law), else
@@ -86,8 +91,9 @@ class MeshProxyRenderer final : public HapticRenderer {
   // fallback bisection from the proxy (false, also in free space).
   bool last_translation_from_mesh() const { return translation_from_mesh_; }
   bool last_rotation_from_mesh() const { return rotation_from_mesh_; }
-  // The weights ContactDampingWeight gave the damper in the last tick (force, torque): the wrench minus
-  // −w·c·v is the wall's own part (the direction metric scores it).
+  // The weights of the damper in the last tick (force, torque): ContactDampingWeight's, or the force-rate
+  // shaper's stronger damper divided by c_f. The wrench minus −w·c·v is the wall's own part (the direction metric
+  // scores it).
   double last_force_damping_weight() const noexcept { return force_damping_weight_; }
   double last_torque_damping_weight() const noexcept { return torque_damping_weight_; }
 
@@ -117,6 +123,7 @@ class MeshProxyRenderer final : public HapticRenderer {
   Eigen::Vector3d u_previous_ = Eigen::Vector3d::Zero();  // last tick's translational line direction (0: none)
   double force_damping_weight_ = 1;
   double torque_damping_weight_ = 1;
+  ForceRateShaper shaper_;
 };
 
 }  // namespace robossis::haptics

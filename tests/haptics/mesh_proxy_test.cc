@@ -32,11 +32,22 @@ std::shared_ptr<geometry::LiveBoundary> MakeLive() {
   return std::make_shared<geometry::LiveBoundary>(Rsr(), robot::Sigma7Model::Default(), Config().live);
 }
 
+// The mesh-proxy parameters without the force-rate shaper: the wall law itself, whatever the tick to tick steps.
+MeshProxyParams Unshaped() {
+  MeshProxyParams params = Config().mesh_proxy;
+  params.force_rate.max_rate_n_per_s = 0;
+  return params;
+}
+
+// Ticks for the shaped force to reach a wall held still (15 N at 0.5 N per tick, and a margin).
+constexpr int kSettleTicks = 60;
+
 // A renderer on live slices only (no atlas), refreshed explicitly by the test (latency < 0: no simulated refresher).
 struct LiveOnly {
+  explicit LiveOnly(const MeshProxyParams& params = Config().mesh_proxy)
+      : r{Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, params, nullptr, live, -1.0} {}
   std::shared_ptr<geometry::LiveBoundary> live = MakeLive();
-  MeshProxyRenderer r{Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, Config().mesh_proxy, nullptr,
-                      live, -1.0};
+  MeshProxyRenderer r;
   // Starts at X_start, lets the proxy post its pose, and generates the slices there.
   void StartAt(const Eigen::Isometry3d& X_start) {
     r.Reset(X_start);
@@ -83,7 +94,7 @@ TEST(MeshProxy, TheDamperFadesInWithTheDepth) {
   const double reach = ReachAlongAxis(Rsr(), Home(), Eigen::Vector3d::UnitZ(), false, 0.3);
   const Eigen::Vector3d v(0.05, 0, 0);  // along the wall: the damper's part is along x, the spring's along z
   for (const double fraction : {0.25, 0.5, 1.5}) {
-    LiveOnly m;
+    LiveOnly m(Unshaped());  // the law's own damper (the shaper may choose another strength to bound a step)
     m.StartAt(Home());
     const double depth = fraction * p.damping_fade_m;
     for (double s = 0; s <= reach; s += 0.0005) Hold(m.r, Translated(Home(), Eigen::Vector3d(0, 0, s)), 1);
@@ -114,14 +125,15 @@ TEST(MeshProxy, PushesBackAlongTheTrueNormalBeyondTheTranslationalEdges) {
     ProxyRenderer proxy(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, Config().proxy);
     proxy.Reset(Home());
     const double reach = ReachAlongAxis(Rsr(), Home(), axis, false, 0.3);
-    // Walk out to 5 mm beyond in 0.5 mm steps (the proxy methods follow the hand), then hold.
+    // Walk out to 5 mm beyond in 0.1 mm steps (100 mm/s: the spring loads by 0.2 N per tick, within the shaper's
+    // rate, so the wall is not pushed in), then hold.
     HapticOutput out, out_proxy;
-    for (double s = 0; s <= reach + 0.005; s += 0.0005) {
+    for (double s = 0; s <= reach + 0.005; s += 0.0001) {
       out = Hold(m.r, Translated(Home(), s * axis), 1);
       out_proxy = Hold(proxy, Translated(Home(), s * axis), 1);
     }
     const Eigen::Isometry3d X = Translated(Home(), (reach + 0.005) * axis);
-    out = Hold(m.r, X, 3);
+    out = Hold(m.r, X, kSettleTicks);
     out_proxy = Hold(proxy, X, 3);
     ASSERT_EQ(out.status, HapticStatus::kContact) << axis.transpose();
     EXPECT_TRUE(m.r.last_translation_from_mesh()) << axis.transpose();
@@ -184,7 +196,7 @@ TEST(MeshProxy, NoPhantomWallOnAStaleSlice) {
     EXPECT_LE(worst, 1e-9) << "sign " << sign;
     // Beyond the edge: the true wall (depth and normal of the true boundary), however stale the slice.
     const Eigen::Isometry3d X = Translated(Home(), (reach + 0.002) * axis);
-    const HapticOutput out = Hold(m.r, X, 2);
+    const HapticOutput out = Hold(m.r, X, kSettleTicks);
     EXPECT_GT(out.f_O.dot(InwardNormalTranslation(Rsr(), X)),
               0.9 * Config().wall.k_f_n_per_m * TranslationalPenetration(Rsr(), X))
         << "sign " << sign;
@@ -263,6 +275,7 @@ TEST(MeshProxy, TheContactDirectionHasMemoryWhereTheNearestFaceSwitches) {
   auto largest_step = [&](double max_direction_step_rad) {
     MeshProxyParams params = Config().mesh_proxy;
     params.max_direction_step_rad = max_direction_step_rad;
+    params.force_rate.max_rate_n_per_s = 0;  // the memory alone (the shaper would also smooth the turn)
     auto live = MakeLive();
     MeshProxyRenderer r(Rsr(), IdentityMap(), Config().limits, 1000, Config().wall, params, nullptr, live, -1.0);
     r.Reset(Home());
