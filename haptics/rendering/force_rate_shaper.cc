@@ -52,14 +52,22 @@ double ForceRateShaper::DamperStrength(const Eigen::Vector3d& v, double nominal,
   return std::clamp(nominal, lo, hi);
 }
 
-double ForceRateShaper::EntryTime(double depth, double rate_in) const noexcept {
-  if (!(depth > 0)) return 0;
-  return rate_in > 0 ? depth / (params_.exit_speed_margin * rate_in) : kNever;
+Eigen::Vector3d ForceRateShaper::Toward(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                        double budget_j) const noexcept {
+  const double phi_from = Potential(from.norm());
+  if (Potential(to.norm()) - phi_from <= budget_j) return to;
+  // The potential along the segment is convex and within the budget at `from`: bisection on the fraction.
+  double lo = 0, hi = 1;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (Potential((from + mid * (to - from)).norm()) - phi_from <= budget_j ? lo : hi) = mid;
+  }
+  return from + lo * (to - from);
 }
 
 Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen::Vector3d& v_HC,
                                        const Eigen::Vector3d& q_target, double damping_ns_per_m, bool inside,
-                                       double other_entry_s) noexcept {
+                                       double entry_s) noexcept {
   applied_damping_ = damping_ns_per_m;
   const Eigen::Vector3d target_offset = q_target - p_HC;
   if (!enabled()) return k_ * target_offset - damping_ns_per_m * v_HC;  // eq. 18
@@ -99,27 +107,30 @@ Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen:
   if (change.norm() > step_n) f = repeat + (step_n / change.norm()) * change;
   LimitNorm(f, max_force_n_);
 
-  // 3. The attachment that displays f: at f/k below saturation; saturated, no deeper than it was or than the
-  //    target (a deeper attachment would store energy the plateau did not take from the hand).
-  const double f_norm = f.norm();
-  Eigen::Vector3d offset = f / k_;
-  if (f_norm >= max_force_n_ * (1 - 1e-12)) {
-    offset = (f / f_norm) * std::max(max_force_n_ / k_, std::min(hold.norm(), depth));
-  }
+  // 3. The attachment that displays a spring force: at force/k below saturation; saturated, no deeper than it was
+  //    or than the target (a deeper attachment would store energy the plateau did not take from the hand).
+  const auto offset_for = [&](const Eigen::Vector3d& force) -> Eigen::Vector3d {
+    const double n = force.norm();
+    if (n < max_force_n_ * (1 - 1e-12)) return force / k_;
+    return (force / n) * std::max(max_force_n_ / k_, std::min(hold.norm(), depth));
+  };
 
-  // 4. Energy: loading the spring beyond `hold` takes from the tank, never more than it holds. The potential along
-  //    hold → offset is convex, so the largest admissible fraction is found by bisection.
-  const double phi_hold = Potential(hold.norm());
-  double phi = Potential(offset.norm());
-  if (phi - phi_hold > tank_j_) {
-    double lo = 0, hi = 1;
-    for (int i = 0; i < 40; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (Potential((hold + mid * (offset - hold)).norm()) <= phi_hold + tank_j_ ? lo : hi) = mid;
-    }
-    offset = hold + lo * (offset - hold);
-    phi = Potential(offset.norm());
+  // 4. Energy: loading the spring beyond `hold` takes from the tank, never more than it holds. Two shares: what
+  //    continuity needs (the spring nearest to the one the hand holds that keeps the force within the step) may
+  //    use the whole tank; going on toward the goal (restoring a wall a fast hand pushed in) only what is left above
+  //    a reserve: the energy for the spring to take up the whole damper force at once (a hand stopped short by the
+  //    device's own stop takes the damper's force away in one tick).
+  const Eigen::Vector3d hold_force = SpringForce(hold);
+  Eigen::Vector3d f_continuity = hold_force;
+  if (const Eigen::Vector3d away = hold_force - repeat; away.norm() > step_n) {
+    f_continuity = repeat + (step_n / away.norm()) * away;
   }
+  const double phi_hold = Potential(hold.norm());
+  Eigen::Vector3d offset = Toward(hold, offset_for(f_continuity), tank_j_);
+  double phi = Potential(offset.norm());
+  const double reserve_j = Potential(offset.norm() + damper.norm() / k_) - phi;
+  offset = Toward(offset, offset_for(f), std::max(0.0, tank_j_ - (phi - phi_hold) - reserve_j));
+  phi = Potential(offset.norm());
   tank_j_ = std::max(0.0, tank_j_ - (phi - phi_hold));
   q_ = p_HC + offset;
   const Eigen::Vector3d spring = SpringForce(offset);
@@ -131,19 +142,16 @@ Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen:
     applied_damping_ = std::clamp(-(f_previous_ - spring).dot(v_HC) / v2, 0.0, max_damping);
     total = spring - applied_damping_ * v_HC;
   }
-  // 6. No phantom wall: inside the region the force, spring and damper, is at most free_space_force_n. A hand
-  //    outside may enter the region as soon as its position (depth / v_out) or the rest of its pose is back (on a
-  //    coupled workspace the region at the hand's own orientation can reach its position first): the force may be
-  //    at most what can unload by the earlier of the two. Spring and damper shrink by one factor (each then only
-  //    dissipates more); outside, never by more than the rate allows (where the boundary itself moved, the bound
-  //    dropped at once).
+  // 6. No phantom wall: inside the region the force, spring and damper, is at most free_space_force_n; outside,
+  //    at most what can unload before the hand may be inside (entry_s, sooner by the margin). Spring and damper
+  //    shrink by one factor (each then only dissipates more); outside, never by more than the rate allows (where
+  //    the entry came sooner than foreseen, the bound dropped at once).
   Eigen::Vector3d spring_shown = spring;
-  const double entry_s = std::min(EntryTime(depth, v_out), other_entry_s);
   double bound_n = max_force_n_;
   if (inside) {
     bound_n = params_.free_space_force_n;
   } else if (entry_s < kNever) {
-    bound_n = params_.free_space_force_n + params_.max_rate_n_per_s * entry_s;
+    bound_n = params_.free_space_force_n + params_.max_rate_n_per_s * entry_s / params_.exit_speed_margin;
   }
   if (const double total_n = total.norm(); total_n > bound_n) {
     double scale = bound_n / total_n;

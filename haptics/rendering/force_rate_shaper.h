@@ -28,8 +28,8 @@ struct ForceRateShaperParams {
   // no-phantom-wall goal of 1 N, so that a hand let in at once (its orientation, not its position, came back inside)
   // finds the force cut by as little as the goal allows.
   double free_space_force_n = 0.9;
-  // [assumed] How much faster than its current normal speed a leaving hand is assumed to go when the shaper plans
-  // the unloading before the boundary (the simulated hand accelerates when the wall lets go).
+  // [assumed] How much sooner than its first-order entry time a leaving hand is assumed to be inside when the shaper
+  // plans the unloading before the boundary (the simulated hand accelerates when the wall lets go).
   double exit_speed_margin = 2.0;
   // [assumed] The strongest damper the shaper may use to keep the force from dropping faster than the rate when
   // the hand stops short (the handle meeting the sigma.7's own stop): a damper only dissipates; 100 N·s/m is half
@@ -47,20 +47,16 @@ class ForceRateShaper {
   // Forgets the attachment and the tank: the next Shape starts from the target with no force history.
   void Reset() noexcept { started_ = false; }
 
-  // Entry time of a hand that is outside only by something the shaper does not see (its orientation), or never.
+  // An entry time for a hand that is not approaching the region.
   static constexpr double kNever = 1e300;
 
   // One tick. p_HC, v_HC: the hand's position and velocity; q_target: the target attachment (the proxy position);
   // damping_ns_per_m: the damper of the wall law this tick (c_f times its weight); inside: the HC pose is inside the
-  // true region; other_entry_s: when the rest of the pose (the orientation) will be back inside at its current
-  // rate (kNever: it is not coming back). Returns the force to display, spring and damper (eq. 18
-  // with the shaped attachment); with the shaper off, eq. 18 itself: k·(q_target − p_HC) − c·v_HC.
+  // true region; entry_s: when it will be, at its current rate of approach (first order; kNever: not approaching).
+  // Returns the force to display, spring and damper (eq. 18 with the shaped attachment); with the shaper off,
+  // eq. 18 itself: k·(q_target − p_HC) − c·v_HC.
   Eigen::Vector3d Shape(const Eigen::Vector3d& p_HC, const Eigen::Vector3d& v_HC, const Eigen::Vector3d& q_target,
-                        double damping_ns_per_m, bool inside, double other_entry_s = kNever) noexcept;
-
-  // When a quantity `depth` outside its bound comes back at `rate_in` (> 0: approaching), with the exit speed
-  // margin: 0 for depth 0, kNever when not approaching.
-  double EntryTime(double depth, double rate_in) const noexcept;
+                        double damping_ns_per_m, bool inside, double entry_s) noexcept;
 
   // The damping the last Shape applied (N·s/m): the wall law's, or more where a stronger damper kept the force
   // from dropping faster than the rate (a damper of any strength only dissipates).
@@ -71,6 +67,9 @@ class ForceRateShaper {
 
  private:
   double Potential(double offset_m) const noexcept;  // Φ above
+  // The offset on the segment from → to farthest toward `to` whose potential exceeds that at `from` by at most
+  // budget_j (budget_j >= 0).
+  Eigen::Vector3d Toward(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double budget_j) const noexcept;
   // The damper strength in [0, max_damping] nearest to `nominal` whose force −b·v is within max_change_n of last
   // tick's damper force (or nearest to it when none is).
   double DamperStrength(const Eigen::Vector3d& v, double nominal, double max_damping,

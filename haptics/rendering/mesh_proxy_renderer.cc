@@ -48,6 +48,7 @@ void MeshProxyRenderer::ResetMethod(const Eigen::Isometry3d& X_OH) noexcept {
   translation_from_mesh_ = rotation_from_mesh_ = false;
   u_previous_.setZero();
   shaper_.Reset();
+  have_margins_ = false;
   force_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_m);
   torque_damping_weight_ = ContactDampingWeight(0.0, params_.damping_fade_rad);
 }
@@ -188,6 +189,24 @@ bool MeshProxyRenderer::MoveRotation(const Eigen::Matrix3d& R_HC,
   return false;
 }
 
+double MeshProxyRenderer::EntryTime(const robot::RsrIkResult& ik) noexcept {
+  // The pose is inside when every joint-limit margin is >= 0 (the coupled workspace as it is: position and
+  // orientation together). Each violated margin closes at its rate since the last tick; the pose is inside when
+  // the last of them has closed, or never if one of them is not closing.
+  double entry_s = 0;
+  for (std::size_t i = 0; i < ik.checks.size(); ++i) {
+    const double margin = ik.checks[i].margin;
+    if (margin < 0) {
+      const double rate = have_margins_ ? (margin - margins_previous_[i]) / dt_ : 0.0;
+      entry_s = rate > 0 ? std::max(entry_s, -margin / rate) : ForceRateShaper::kNever;
+      if (!(rate > 0)) break;
+    }
+  }
+  for (std::size_t i = 0; i < ik.checks.size(); ++i) margins_previous_[i] = ik.checks[i].margin;
+  have_margins_ = true;
+  return entry_s;
+}
+
 HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3d& f_F,
                                        Eigen::Vector3d& tau_F) noexcept {
   if (!robot::IsPoseFeasible(model_, X_FP_)) X_FP_ = model_.geometry().X_FM_home;  // never expected; stay safe
@@ -208,13 +227,15 @@ HapticStatus MeshProxyRenderer::Render(const RsrSideState& state, Eigen::Vector3
   WallLawParams law = wall_;
   law.c_f_ns_per_m *= force_damping_weight_;
   law.c_tau_nms_per_rad *= torque_damping_weight_;
-  // eq. 18 with d = proxy − HC, through the force-rate shaper (eq. 18 itself when it is off). The orientation is
-  // back inside when θ has closed at the rate ω turns the hand toward the proxy (never if it is inside already:
-  // then only the position decides).
-  const double theta = theta_F.norm();
-  f_F = shaper_.Shape(state.X_FM.translation(), state.v_F, X_FP_.translation(), law.c_f_ns_per_m,
-                      shaper_.enabled() && robot::IsPoseFeasible(model_, state.X_FM),
-                      theta > 0 ? shaper_.EntryTime(theta, state.w_F.dot(theta_F / theta)) : ForceRateShaper::kNever);
+  // eq. 18 with d = proxy − HC, through the force-rate shaper (eq. 18 itself when it is off).
+  bool inside = false;
+  double entry_s = ForceRateShaper::kNever;
+  if (shaper_.enabled()) {
+    const robot::RsrIkResult ik = robot::CalcInverseKinematics(model_, state.X_FM);
+    inside = ik.feasible;
+    entry_s = EntryTime(ik);
+  }
+  f_F = shaper_.Shape(state.X_FM.translation(), state.v_F, X_FP_.translation(), law.c_f_ns_per_m, inside, entry_s);
   if (wall_.c_f_ns_per_m > 0) force_damping_weight_ = shaper_.applied_damping_ns_per_m() / wall_.c_f_ns_per_m;
   tau_F = WallTorque(law, theta_F, state.w_F);  // eq. 19 with θ = log(R_P R_HCᵀ)
   const bool contact = d_F.squaredNorm() > 1e-18 || theta_F.squaredNorm() > 1e-18;

@@ -24,6 +24,7 @@
 // paper's law). ContactDampingWeight below. With MeshProxyParams::force_rate on, the spring is that of the
 // ForceRateShaper's attachment, which follows the proxy only as fast as the force may change, never actively.
 
+#include <array>
 #include <memory>
 
 #include "geometry/boundary_atlas.h"
@@ -31,6 +32,7 @@
 #include "haptics/rendering/force_rate_shaper.h"
 #include "haptics/rendering/haptic_types.h"
 #include "haptics/rendering/wall_law.h"
+#include "robot/rsr_kinematics.h"
 
 namespace robossis::haptics {
 
@@ -107,6 +109,9 @@ class MeshProxyRenderer final : public HapticRenderer {
                     const geometry::BoundaryDistanceField** rotational) noexcept;
   bool MoveTranslation(const Eigen::Vector3d& p_HC, const geometry::BoundaryDistanceField* field) noexcept;
   bool MoveRotation(const Eigen::Matrix3d& R_HC, const geometry::BoundaryDistanceField* field) noexcept;
+  // When the HC pose (its IK this tick) will be inside the true region, at the rate its violated joint-limit margins
+  // close (the force-rate shaper unloads before then); ForceRateShaper::kNever if one of them is not closing.
+  double EntryTime(const robot::RsrIkResult& ik) noexcept;
 
   WallLawParams wall_;
   MeshProxyParams params_;
@@ -124,6 +129,8 @@ class MeshProxyRenderer final : public HapticRenderer {
   double force_damping_weight_ = 1;
   double torque_damping_weight_ = 1;
   ForceRateShaper shaper_;
+  std::array<double, 3 * robot::kNumArms> margins_previous_{};  // the HC pose's joint-limit margins, last tick
+  bool have_margins_ = false;
 };
 
 }  // namespace robossis::haptics

@@ -7,7 +7,7 @@ namespace robossis::haptics {
 
 std::vector<std::string> KnownMethods() {
   return {"pointcloud", "pointcloud-safe", "pointcloud-pc", "mesh", "mesh-live",
-          "mesh-proxy", "proxy", "proxy-safe", "proxy-pc"};
+          "mesh-proxy", "mesh-proxy-safe", "proxy", "proxy-safe", "proxy-pc"};
 }
 
 std::string KnownMethodsText() {

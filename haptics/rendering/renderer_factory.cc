@@ -45,13 +45,17 @@ std::unique_ptr<HapticRenderer> MakeRenderer(const std::string& method, const Ha
       mesh->UseLiveBoundary(std::move(live), config.live_refresh_latency_s, config.live_switch_blend_s);
     }
     r = std::move(mesh);
-  } else if (method == "mesh-proxy") {
+  } else if (method == "mesh-proxy" || method == "mesh-proxy-safe") {
+    // -safe: the device-safe wall (the torque stiffness the sigma.7 renders stably), as proxy-safe.
+    const bool safe = method == "mesh-proxy-safe";
     auto live = std::make_shared<geometry::LiveBoundary>(model, robot::Sigma7Model::Default(), config.live);
     const bool thread = background == BackgroundWork::kThread;
     if (thread) live->Start();
-    r = std::make_unique<MeshProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.mesh_proxy,
+    r = std::make_unique<MeshProxyRenderer>(model, map, config.limits, rate_hz,
+                                            safe ? config.device_safe_wall : config.wall, config.mesh_proxy,
                                             std::move(atlas), std::move(live),
-                                            thread ? -1.0 : config.live_refresh_latency_s, "mesh-proxy");
+                                            thread ? -1.0 : config.live_refresh_latency_s,
+                                            safe ? "mesh-proxy-safe" : "mesh-proxy");
   } else if (method == "proxy") {
     r = std::make_unique<ProxyRenderer>(model, map, config.limits, rate_hz, config.wall, config.proxy, "proxy");
   } else if (method == "proxy-safe") {

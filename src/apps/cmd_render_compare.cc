@@ -27,8 +27,8 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   RenderCompareResult result;
   result.scenario = haptics::MakeScenario(request.scenario, rsr, config.hand, config.strike_hand_stiffness_n_per_m,
                                           request.fast);
-  // "mesh" needs the atlas; "mesh-live" and "mesh-proxy" use it until their first refresh lands.
-  const auto uses_atlas = [](const std::string& m) { return m == "mesh" || m == "mesh-live" || m == "mesh-proxy"; };
+  // "mesh" needs the atlas; "mesh-live" and "mesh-proxy(-safe)" use it until their first refresh lands.
+  const auto uses_atlas = [](const std::string& m) { return m.rfind("mesh", 0) == 0; };
   if (std::any_of(request.methods.begin(), request.methods.end(), uses_atlas)) {
     if (request.atlas) {
       result.atlas = request.atlas;

@@ -186,8 +186,8 @@ TEST_F(HostileMotionTest, TheActuationRateLivesInTransferYamlAlone) {
 // --- Method names: one parser, no empty names -------------------------------------------------------------------
 
 TEST_F(HostileMotionTest, MethodListsWithEmptyEntriesAreRefusedWithTheKnownMethods) {
-  const std::string known = "known: pointcloud, pointcloud-safe, pointcloud-pc, mesh, mesh-live, mesh-proxy, proxy, "
-                            "proxy-safe, proxy-pc";
+  const std::string known = "known: pointcloud, pointcloud-safe, pointcloud-pc, mesh, mesh-live, mesh-proxy, "
+                            "mesh-proxy-safe, proxy, proxy-safe, proxy-pc";
   for (const std::string& list : std::vector<std::string>{"proxy,", ",proxy", "proxy,,pointcloud", ","}) {
     const CommandRun run =
         RunBounded("render-compare --fast --scenario strike --methods " + Q(list) + " --out " + Q(Out()));
