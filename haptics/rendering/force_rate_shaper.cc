@@ -107,7 +107,7 @@ Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen:
   if (change.norm() > step_n) f = repeat + (step_n / change.norm()) * change;
   LimitNorm(f, max_force_n_);
 
-  // 3. The attachment that displays a spring force: at force/k below saturation; saturated, no deeper than it was
+  // 2. The attachment that displays a spring force: at force/k below saturation; saturated, no deeper than it was
   //    or than the target (a deeper attachment would store energy the plateau did not take from the hand).
   const auto offset_for = [&](const Eigen::Vector3d& force) -> Eigen::Vector3d {
     const double n = force.norm();
@@ -115,7 +115,7 @@ Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen:
     return (force / n) * std::max(max_force_n_ / k_, std::min(hold.norm(), depth));
   };
 
-  // 4. Energy: loading the spring beyond `hold` takes from the tank, never more than it holds. Two shares: what
+  // 3. Energy: loading the spring beyond `hold` takes from the tank, never more than it holds. Two shares: what
   //    continuity needs (the spring nearest to the one the hand holds that keeps the force within the step) may
   //    use the whole tank; going on toward the goal (restoring a wall a fast hand pushed in) only what is left above
   //    a reserve: the energy for the spring to take up the whole damper force at once (a hand stopped short by the
@@ -135,14 +135,14 @@ Eigen::Vector3d ForceRateShaper::Shape(const Eigen::Vector3d& p_HC, const Eigen:
   q_ = p_HC + offset;
   const Eigen::Vector3d spring = SpringForce(offset);
 
-  // 5. Where the energy kept the spring from its share, the damper's strength that brings the whole force nearest
+  // 4. Where the energy kept the spring from its share, the damper's strength that brings the whole force nearest
   //    to last tick's.
   Eigen::Vector3d total = spring + damper;
   if ((total - f_previous_).norm() > step_n && v2 > 1e-12 && !inside) {
     applied_damping_ = std::clamp(-(f_previous_ - spring).dot(v_HC) / v2, 0.0, max_damping);
     total = spring - applied_damping_ * v_HC;
   }
-  // 6. No phantom wall: inside the region the force, spring and damper, is at most free_space_force_n; outside,
+  // 5. No phantom wall: inside the region the force, spring and damper, is at most free_space_force_n; outside,
   //    at most what can unload before the hand may be inside (entry_s, sooner by the margin). Spring and damper
   //    shrink by one factor (each then only dissipates more); outside, never by more than the rate allows (where
   //    the entry came sooner than foreseen, the bound dropped at once).

@@ -1,5 +1,6 @@
 #pragma once
-// A passive limit on how fast a coupling force may change (haptics/README.md, "The force-rate shaper").
+// A passive limit on how fast a coupling force may change (haptics/README.md, "Mesh walls fit to drive hardware",
+// the force-rate shaper).
 //
 // A virtual coupling F = k·(q − p_HC) to a target attachment q* (the proxy) changes by k·|Δp_HC| per tick when the
 // hand moves, and by k·|Δq*| when the proxy jumps: 1.7 N per 1 kHz tick for a hand entering at 830 mm/s, 15 N when
@@ -8,8 +9,9 @@
 // dissipated first:
 //   * moving q toward the hand unloads the spring (the energy goes into a tank: a slider in series with the spring);
 //   * moving q away from the hand loads it, paid from the tank, never beyond it;
-//   * a hand leaving the wall fast sees the force unload early enough to be (almost) zero where it leaves the true
-//     region, and in free space the force is at most free_space_force_n (no phantom wall).
+//   * the damper's strength is chosen in [0, max_damping_ns_per_m] so that its force stays continuous too;
+//   * a hand about to be back inside the true region finds the force unloaded by then, and inside the force is at
+//     most free_space_force_n (no phantom wall).
 // The stored energy of the saturated spring is Φ(r) = ½·k·r² up to the saturation offset r_s = F_max/k and
 // F_max·(r − r_s) + ½·k·r_s² beyond, so a saturated attachment deeper than r_s stores (and may return) only the
 // work its plateau takes from the hand.
@@ -24,7 +26,7 @@ struct ForceRateShaperParams {
   // [assumed] The largest change of the displayed force (the damper included) per second; 0: the shaper is off.
   // 500 N/s is 0.5 N per 1 kHz tick (the hardware goal of haptics/README.md for the mesh walls).
   double max_rate_n_per_s = 0;
-  // [assumed] The largest spring force displayed while the HC pose is inside the true region: just under the
+  // [assumed] The largest force (spring and damper) displayed while the HC pose is inside the true region: under the
   // no-phantom-wall goal of 1 N, so that a hand let in at once (its orientation, not its position, came back inside)
   // finds the force cut by as little as the goal allows.
   double free_space_force_n = 0.9;
