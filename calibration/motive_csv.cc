@@ -274,10 +274,11 @@ void MotiveReader::ParseHeader() {
     if (has_axis || (c >= 2 && has_type)) ncols = c + 1;
   }
   layout_.num_columns = static_cast<int>(ncols);
-  if (ncols >= 2 && Lower(TrimField(axis[1])).rfind("time", 0) == 0) layout_.time_column = 1;
+  // Any header row may be shorter than the columns counted (a Type row longer than the axis row): read through cell.
   auto cell = [](const std::vector<std::string>& r, std::size_t c) {
     return c < r.size() ? std::string(TrimField(r[c])) : std::string();
   };
+  if (ncols >= 2 && Lower(cell(axis, 1)).rfind("time", 0) == 0) layout_.time_column = 1;
   // The Type row names Motive asset types only; anything else there means the row is missing (the Name row moved
   // up), which would otherwise read as a take with no rigid bodies.
   for (std::size_t c = 2; c < ncols; ++c) {

@@ -332,6 +332,10 @@ TEST(MotiveCsvTest, HostileCellsAndHeadersAreErrorsOrReadExactly) {
                                 "7,0.07,0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n"
                                 "8,0.06,0,0,0,1,11,20,30,0,0,0,1,-5,0,1001\n")),
               HasSubstr("take.csv line 9, column 2 (Time): got '0.06'; expected a time greater than 0.07"));
+  // A Type row longer than the axis row (found by fuzz_motive_reader: the Time check read past the axis row).
+  const std::string short_axis = std::regex_replace(TwoBodyTake(), std::regex("\nFrame,[^\n]*\n"), "\nFrame\n");
+  ASSERT_NE(short_axis, TwoBodyTake());
+  EXPECT_THAT(Error(short_axis), HasSubstr("take.csv line 7: column 4 (Rigid Body 'A' Rotation ) repeats column 3"));
   // An unterminated quote names its line and field.
   EXPECT_THAT(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n", "7,0.07,\"0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n")),
               HasSubstr("take.csv line 8, field 3: unterminated quote"));
