@@ -2,6 +2,7 @@
 // a hang or undefined behaviour. Run: fuzz_motive_reader -max_total_time=60 tests/calibration/data/
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -9,9 +10,17 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace robossis::calibration;
-  const std::string text(reinterpret_cast<const char*>(data), size);
+  std::optional<MotiveReader> parsed;
   try {
-    MotiveReader reader(text, "fuzz.csv");
+    parsed.emplace(std::string(reinterpret_cast<const char*>(data), size), "fuzz.csv");
+  } catch (const std::runtime_error&) {
+    return 0;
+  }
+  // The header is parsed once (half the target's time when each pass parsed it): a copy of the reader is at the
+  // first frame too.
+  MotiveReader inspected = *parsed;
+  try {
+    MotiveReader& reader = *parsed;
     MotiveRow row;
     int frames = 0;
     while (reader.ReadFrame(row) && frames < 100000) {
@@ -22,8 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const std::runtime_error&) {
   }
   try {
-    MotiveReader reader(text, "fuzz.csv");
-    InspectMotiveTake(reader);
+    InspectMotiveTake(inspected);
   } catch (const std::runtime_error&) {
   }
   return 0;
