@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -174,15 +175,21 @@ TriangleMesh ParseBinaryPly(const std::string& bytes, double file_scale, const s
     std::string w0, w1;
     words >> w0 >> w1;
     if (w0 == "format") binary_le = (w1 == "binary_little_endian");
-    if (w0 == "element" && w1 == "vertex") words >> n_vertices;
-    if (w0 == "element" && w1 == "face") words >> n_faces;
+    if (w0 == "element" && (w1 == "vertex" || w1 == "face")) {
+      long long& count = w1 == "vertex" ? n_vertices : n_faces;
+      if (count >= 0) fail("'element " + w1 + "' appears twice in the header");
+      if (!(words >> count) || count < 0) fail("'" + line + "': expected a count from 0 to " + std::to_string(LLONG_MAX));
+    }
   }
   if (!binary_le) fail("expected 'format binary_little_endian 1.0' (the layout WriteBinaryPly writes)");
   if (n_vertices < 0 || n_faces < 0) fail("header lacks 'element vertex N' or 'element face N'");
+  // 12 bytes a vertex, 13 a triangle. The counts are bounded by the body's size before they are multiplied: a count
+  // near 2^63 would wrap the product to a size that matches.
   const std::size_t body = end + end_marker.size();
-  const std::size_t expected = body + 12 * static_cast<std::size_t>(n_vertices) + 13 * static_cast<std::size_t>(n_faces);
-  if (bytes.size() != expected) {
-    fail("size " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected) + " for " +
+  const std::size_t body_bytes = bytes.size() - body;
+  const auto vertices = static_cast<unsigned long long>(n_vertices), faces = static_cast<unsigned long long>(n_faces);
+  if (vertices > body_bytes / 12 || faces > body_bytes / 13 || body_bytes != 12 * vertices + 13 * faces) {
+    fail(std::to_string(body_bytes) + " bytes after the header; expected 12 per vertex and 13 per triangle for " +
          std::to_string(n_vertices) + " vertices and " + std::to_string(n_faces) + " triangles (truncated?)");
   }
   TriangleMesh mesh;

@@ -83,5 +83,29 @@ TEST(TriangleMeshTest, GarbagePlyIsRejected) {
   EXPECT_THROW(ParseBinaryPly(bytes, 1.0, "x.ply"), std::runtime_error);
 }
 
+// Found by fuzz_atlas: 12 × 2^62 wraps to 0, so an empty body "matched" 2^62 vertices and the reader tried to
+// allocate them (std::length_error, not a message).
+TEST(TriangleMeshTest, PlyCountsAreBoundedByTheFileBeforeTheyAreMultiplied) {
+  auto ply = [](const std::string& elements) {
+    return "ply\nformat binary_little_endian 1.0\n" + elements + "property list uchar int vertex_indices\nend_header\n";
+  };
+  auto error = [](const std::string& bytes) {
+    try {
+      ParseBinaryPly(bytes, 1.0, "slice.ply");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error(ply("element vertex 4611686018427387904\nelement face 0\n")),
+            "slice.ply: 0 bytes after the header; expected 12 per vertex and 13 per triangle for 4611686018427387904 "
+            "vertices and 0 triangles (truncated?)");
+  EXPECT_EQ(error(ply("element vertex 1\nelement vertex 2\nelement face 0\n")),
+            "slice.ply: 'element vertex' appears twice in the header");
+  EXPECT_EQ(error(ply("element vertex 99999999999999999999\nelement face 0\n")),
+            "slice.ply: 'element vertex 99999999999999999999': expected a count from 0 to 9223372036854775807");
+  EXPECT_EQ(error(ply("element vertex 0\nelement face 0\n")), "no error");
+}
+
 }  // namespace
 }  // namespace robossis::geometry
