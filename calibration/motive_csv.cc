@@ -206,9 +206,14 @@ void MotiveReader::ParseHeader() {
     throw std::runtime_error(where(1) + "'" + (export_stated ? "Export" : "Capture") + " Frame Rate' is " + stated +
                              "; expected a rate in (0, 100000] Hz to build the time axis");
   }
-  if (meta.count("total exported frames")) {
+  if (meta.count("total exported frames") && !meta["total exported frames"].empty()) {
+    const std::string& stated = meta["total exported frames"];
     double n = 0;
-    if (TryParseNumber(meta["total exported frames"], &n)) header_.total_exported_frames = static_cast<std::int64_t>(n);
+    if (!TryParseNumber(stated, &n) || n != std::floor(n) || n < 0 || n > kMaxMotiveFrame) {
+      throw std::runtime_error(where(1) + "'Total Exported Frames' is '" + stated.substr(0, 40) +
+                               "'; expected a whole number of frames from 0 to 9e15");
+    }
+    header_.total_exported_frames = static_cast<std::int64_t>(n);
   }
   const std::string rotation = meta.count("rotation type") ? meta["rotation type"] : "Quaternion";
   bool known_rotation = false;
@@ -401,7 +406,7 @@ bool MotiveReader::ReadFrame(MotiveRow& row) {
   row.source_name_ = source_name_;
   row.length_scale_ = header_.length_scale_to_m;
   double frame = 0;
-  if (!TryParseNumber(row.fields_[0], &frame) || frame != std::floor(frame) || frame < 0 || frame > 9.0e15) {
+  if (!TryParseNumber(row.fields_[0], &frame) || frame != std::floor(frame) || frame < 0 || frame > kMaxMotiveFrame) {
     throw std::runtime_error(source_name_ + " line " + std::to_string(line_number_) + ": the Frame cell is '" +
                              std::string(row.fields_[0].substr(0, 40)) + "'; expected a non-negative whole number");
   }

@@ -33,6 +33,9 @@ inline constexpr double kMaxMotivePositionM = 1000.0;
 inline constexpr double kMotiveQuaternionNormTolerance = 1e-3;
 inline constexpr double kMotiveTimeToleranceFrames = 0.5;
 inline constexpr double kMotiveTimeRoundingS = 1e-3;
+// Largest frame number or frame count read (an assumption: whole numbers below 2^53 are exact in a double, and
+// 9e15 frames at 1 kHz are 285 000 years).
+inline constexpr double kMaxMotiveFrame = 9.0e15;
 
 inline constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 

@@ -336,6 +336,14 @@ TEST(MotiveCsvTest, HostileCellsAndHeadersAreErrorsOrReadExactly) {
   const std::string short_axis = std::regex_replace(TwoBodyTake(), std::regex("\nFrame,[^\n]*\n"), "\nFrame\n");
   ASSERT_NE(short_axis, TwoBodyTake());
   EXPECT_THAT(Error(short_axis), HasSubstr("take.csv line 7: column 4 (Rigid Body 'A' Rotation ) repeats column 3"));
+  // A frame count beyond any take (found by fuzz_motive_reader: 1.9e107 was converted to an integer, undefined
+  // behaviour) or not whole.
+  for (const std::string count : {"1.9e107", "2.5", "-1", "many"}) {
+    const std::string text = std::regex_replace(TwoBodyTake(), std::regex("Coordinate Space"),
+                                                "Total Exported Frames," + count + ",Coordinate Space");
+    EXPECT_EQ(Error(text), "take.csv line 1: 'Total Exported Frames' is '" + count +
+                               "'; expected a whole number of frames from 0 to 9e15");
+  }
   // An unterminated quote names its line and field.
   EXPECT_THAT(Error(TwoBodyTake(",Name,A,A,A,A,A,A,A,B,B,B,B,B,B,B\n", "7,0.07,\"0,0,0,1,10,20,30,0,0,0,1,-5,0,1000\n")),
               HasSubstr("take.csv line 8, field 3: unterminated quote"));
