@@ -68,29 +68,39 @@ void RejectDuplicateKeys(const YAML::Node& node, const std::string& file, const 
   }
 }
 
-// The 1-based line of the marker that starts the second document: a "---" at the start of a line (YAML allows a
-// document marker nowhere else), the first one if content came before it, else the second.
-// The number of YAML documents in `text`, counted up to 2. Not YAML::LoadAll: on some malformed inputs its parser
-// reports empty documents without end, and LoadAll never returns (found by fuzz_yaml_configs).
-int DocumentsUpToTwo(const std::string& text) {
-  struct Ignore : YAML::EventHandler {
+// What the event pass sees of the document stream: the number of documents (counted up to 2) and the line of the
+// first alias. Not YAML::LoadAll: on some malformed inputs its parser reports empty documents without end, and
+// LoadAll never returns (found by fuzz_yaml_configs).
+struct DocumentScan {
+  int documents = 0;
+  int first_alias_line = 0;  // 1-based; 0 when there is none
+};
+
+DocumentScan ScanDocuments(const std::string& text) {
+  struct Scan : YAML::EventHandler {
+    int first_alias_line = 0;
     void OnDocumentStart(const YAML::Mark&) override {}
     void OnDocumentEnd() override {}
     void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-    void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
+      if (first_alias_line == 0) first_alias_line = mark.line + 1;
+    }
     void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
     void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
     void OnSequenceEnd() override {}
     void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
     void OnMapEnd() override {}
-  } ignore;
+  } scan;
   std::istringstream in(text);
   YAML::Parser parser(in);
-  int documents = 0;
-  while (documents < 2 && parser.HandleNextDocument(ignore)) ++documents;
-  return documents;
+  DocumentScan result;
+  while (result.documents < 2 && parser.HandleNextDocument(scan)) ++result.documents;
+  result.first_alias_line = scan.first_alias_line;
+  return result;
 }
 
+// The 1-based line of the marker that starts the second document: a "---" at the start of a line (YAML allows a
+// document marker nowhere else), the first one if content came before it, else the second.
 int SecondDocumentLine(const std::string& text) {
   int line = 0, markers = 0;
   bool content_before_marker = false;
@@ -124,17 +134,24 @@ ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
   }
   const std::string text = ReadBoundedFile(file, kMaxFileBytes, "YAML config file");
   YAML::Node root;
-  int documents = 0;
+  DocumentScan scan;
   try {
-    documents = DocumentsUpToTwo(text);
+    scan = ScanDocuments(text);
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(file.string() + ": not valid YAML: " + e.what());
   }
-  if (documents > 1) {
+  if (scan.documents > 1) {
     // A second document would be ignored by every loader: the file says two things and only one would count.
     throw std::runtime_error(file.string() + " line " + std::to_string(SecondDocumentLine(text)) +
                              ": a second YAML document ('---'); expected one document per config file");
+  }
+  if (scan.first_alias_line > 0) {
+    // An alias shares a node: one that names its own ancestor makes the document a cycle, and nested ones grow it
+    // exponentially when walked (found by fuzz_yaml_configs: the duplicate-key walk overflowed the stack).
+    throw std::runtime_error(file.string() + " line " + std::to_string(scan.first_alias_line) +
+                             ": a YAML alias ('*name'); expected no aliases in a config file: write the "
+                             "value out");
   }
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping at the top level");
   RejectDuplicateKeys(root, file.string(), "");

@@ -105,6 +105,15 @@ TEST(ConfigTest, ASecondDocumentIsRefusedWithItsLine) {
   EXPECT_NO_THROW(ConfigNode::Load(WriteYaml("one_marked", "---\nn: 1\n...\n")));
 }
 
+// Found by fuzz_yaml_configs: an alias of its own ancestor made the document a cycle, and walking it overflowed
+// the stack.
+TEST(ConfigTest, AnAliasIsRefusedWithItsLine) {
+  EXPECT_THAT(ErrorOf(WriteYaml("cycle", "a: &u\n  b: *u\n")),
+              HasSubstr("cycle.yaml line 2: a YAML alias ('*name'); expected no aliases in a config file"));
+  EXPECT_THAT(ErrorOf(WriteYaml("shared", "a: &v 1\nb: 2\nc: *v\n")), HasSubstr("shared.yaml line 3: a YAML alias"));
+  EXPECT_NO_THROW(ConfigNode::Load(WriteYaml("star_in_a_string", "a: '*v'\nb: \"&v\"\n")));
+}
+
 TEST(ConfigTest, OversizedFileIsRefusedBeforeParsing) {
   const auto file = WriteYaml("big", "rate_hz: 1\n# " + std::string(ConfigNode::kMaxFileBytes, 'x') + "\n");
   EXPECT_THAT(ErrorOf(file), HasSubstr("expected a YAML config file of at most"));
