@@ -27,8 +27,8 @@ class ConfigNode {
   static constexpr std::uintmax_t kMaxFileBytes = 1u << 20;
 
   // Loads a YAML file; throws std::runtime_error naming the file if it is missing, not a regular file, larger
-  // than kMaxFileBytes, not valid YAML, holds more than one YAML document ('---': the line is named), or has a key
-  // twice in one mapping (YAML forbids it; yaml-cpp keeps both).
+  // than kMaxFileBytes, not valid YAML, holds more than one YAML document ('---': the line is named), holds an
+  // alias ('*name': the line is named), or has a key twice in one mapping (YAML forbids it; yaml-cpp keeps both).
   static ConfigNode Load(const std::filesystem::path& file);
   ConfigNode(YAML::Node node, std::string file, std::string key_path);
 
