@@ -119,6 +119,9 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
 // then in haptic mode the hand (a replay script, the RSR pose it commands) pushes on up, beyond the wall, as far as
 // the sigma.7's handle travels; the panel shows the rendered force on the hand and the robot stops at the wall.
 // The demonstration caps are chosen while clutched, so the robot follows the hand within the run.
+// The replay starts at the device's first read (haptic.on) and holds the hand still for its first 5 s: choosing the
+// caps rebuilds the leader, which stalls the window's frame (1.2 to 1.9 s measured under AddressSanitizer), and the
+// hand must not have used up its travel before the unclutch, or it can no longer push beyond the wall.
 TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   const auto dir = TestDir("haptic_wall");
   const robossis::robot::RsrModel model =
@@ -128,10 +131,10 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   {
     std::ofstream out(hand);
     out << "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n";
-    for (int k = 0; k <= 100; ++k) {  // 10 s: 9 mm/s up for 5 s, then held there
+    for (int k = 0; k <= 150; ++k) {  // 15 s: still for 5 s, 9 mm/s up for 5 s, then held there
       const double t = 0.1 * k;
       out << t << "," << robossis::MToMm(home.x()) << "," << robossis::MToMm(home.y()) << ","
-          << robossis::MToMm(home.z()) + 9.0 * std::min(t, 5.0) << ",0,0,0\n";
+          << robossis::MToMm(home.z()) + 9.0 * std::clamp(t - 5.0, 0.0, 5.0) << ",0,0,0\n";
     }
   }
   const PanelRun run = RunPanel(dir,
@@ -144,7 +147,7 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
                                 "12.5 click haptic.clutch\n"
                                 "12.6 set haptic.caps demonstration\n"
                                 "12.7 click haptic.unclutch\n"
-                                "20.0 quit\n",  // a loaded machine's loops run late: room to reach the wall
+                                "25.0 quit\n",  // a loaded machine's loops run late: room to reach the wall
                                 "--no-slice --no-bone --device replay:" + hand.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");
