@@ -98,26 +98,31 @@ TEST(SnapshotTest, ReadNewerHandsEachValueOutOnceAndNeverAnOlderOne) {
   Record out;
   std::uint64_t held = 0;
   EXPECT_FALSE(snap.ReadNewer(out, held));
-  std::atomic<bool> stop{false};
+  // The writer publishes a fixed number of values, pausing briefly between them as a loop publishing at its rate
+  // does; the reader takes what it can meanwhile. (A writer publishing back to back can starve a seqlock's reader
+  // for minutes, so the run is bounded by the writer, never by how many the reader manages to take.)
+  constexpr std::uint64_t kPublishes = 200000;
+  std::atomic<bool> done{false};
   std::thread writer([&] {
     Record r;
-    for (std::uint64_t i = 1; !stop.load(); ++i) {
+    for (std::uint64_t i = 1; i <= kPublishes; ++i) {
       r.a = r.b = i;
       snap.Publish(r);
+      for (int spin = 0; spin < 200; ++spin) std::atomic_signal_fence(std::memory_order_seq_cst);
     }
+    done = true;
   });
   std::uint64_t last = 0;
-  for (int takes = 0; takes < 100000;) {
+  while (!done.load()) {
     if (!snap.ReadNewer(out, held)) continue;
-    ++takes;
     ASSERT_EQ(out.a, out.b);
     ASSERT_GT(out.a, last);  // the i-th publish is version i: the value and the version agree
     ASSERT_EQ(held, out.a);
     last = out.a;
   }
-  stop = true;
   writer.join();
   snap.ReadNewer(out, held);                 // the writer's last value, if not taken yet
+  EXPECT_EQ(held, kPublishes);               // every publish counted as one version
   EXPECT_FALSE(snap.ReadNewer(out, held));  // nothing published since: nothing newer
 }
 
