@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/yaml.h>
 
 #include "src/core/files.h"
 
@@ -155,10 +156,10 @@ ConfigNode ConfigNode::Load(const std::filesystem::path& file) {
   }
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping at the top level");
   RejectDuplicateKeys(root, file.string(), "");
-  return ConfigNode(root, file.string(), "");
+  return ConfigNode(std::make_shared<const YAML::Node>(root), file.string(), "");
 }
 
-ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string key_path)
+ConfigNode::ConfigNode(std::shared_ptr<const YAML::Node> node, std::string file, std::string key_path)
     : node_(std::move(node)), file_(std::move(file)), key_path_(std::move(key_path)),
       log_(std::make_shared<ReadLog>()) {}
 
@@ -166,7 +167,7 @@ std::string ConfigNode::PathOf(const std::string& key) const { return Joined(key
 
 void ConfigNode::Note(const std::string& key) const { log_->asked[key_path_].insert(key); }
 
-void ConfigNode::RejectUnreadKeys() const { RejectUnreadKeysIn(node_, key_path_); }
+void ConfigNode::RejectUnreadKeys() const { RejectUnreadKeysIn(*node_, key_path_); }
 
 void ConfigNode::RejectUnreadKeysIn(const YAML::Node& node, const std::string& path) const {
   const auto asked = log_->asked.find(path);
@@ -200,12 +201,12 @@ void ConfigNode::Fail(const std::string& key, const std::string& message) const 
 
 bool ConfigNode::Has(const std::string& key) const {
   Note(key);
-  return node_[key].IsDefined() && !node_[key].IsNull();
+  return (*node_)[key].IsDefined() && !(*node_)[key].IsNull();
 }
 
 YAML::Node ConfigNode::Require(const std::string& key) const {
   Note(key);
-  const YAML::Node n = node_[key];
+  const YAML::Node n = (*node_)[key];
   if (!n.IsDefined() || n.IsNull()) Fail(key, "missing");
   return n;
 }
@@ -213,7 +214,7 @@ YAML::Node ConfigNode::Require(const std::string& key) const {
 ConfigNode ConfigNode::Child(const std::string& key) const {
   const YAML::Node n = Require(key);
   if (!n.IsMap()) Fail(key, "expected a mapping");
-  ConfigNode child(n, file_, PathOf(key));
+  ConfigNode child(std::make_shared<const YAML::Node>(n), file_, PathOf(key));
   child.log_ = log_;
   log_->children.insert(PathOf(key));
   return child;
@@ -243,7 +244,7 @@ double ConfigNode::NumberOr(const std::string& key, double fallback) const {
 
 double ConfigNode::PositiveNumber(const std::string& key) const {
   const double v = Number(key);
-  if (!(v > 0.0)) Fail(key, "expected a positive number, got " + Text(node_[key]));
+  if (!(v > 0.0)) Fail(key, "expected a positive number, got " + Text((*node_)[key]));
   return v;
 }
 

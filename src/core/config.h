@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
+// yaml-cpp stays inside config.cc: a config loader sees only ConfigNode.
+namespace YAML {
+class Node;
+}  // namespace YAML
 
 namespace robossis {
 
@@ -30,7 +33,6 @@ class ConfigNode {
   // than kMaxFileBytes, not valid YAML, holds more than one YAML document ('---': the line is named), holds an
   // alias ('*name': the line is named), or has a key twice in one mapping (YAML forbids it; yaml-cpp keeps both).
   static ConfigNode Load(const std::filesystem::path& file);
-  ConfigNode(YAML::Node node, std::string file, std::string key_path);
 
   // The same document with an empty log of read keys, for a second loader of one parse: RejectUnreadKeys() then
   // judges only what that loader asked for, as if it had loaded the file itself.
@@ -66,11 +68,12 @@ class ConfigNode {
     std::map<std::string, std::set<std::string>> asked;
     std::set<std::string> children;
   };
+  ConfigNode(std::shared_ptr<const YAML::Node> node, std::string file, std::string key_path);
   YAML::Node Require(const std::string& key) const;
   void Note(const std::string& key) const;
   std::string PathOf(const std::string& key) const;
   void RejectUnreadKeysIn(const YAML::Node& node, const std::string& path) const;
-  YAML::Node node_;
+  std::shared_ptr<const YAML::Node> node_;  // never null
   std::string file_;
   std::string key_path_;
   std::shared_ptr<ReadLog> log_;
