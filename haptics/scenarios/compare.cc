@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "haptics/device/device_sim.h"
 #include "haptics/rendering/boundary_probe.h"
 #include "haptics/rendering/mesh_proxy_renderer.h"

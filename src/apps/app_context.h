@@ -5,13 +5,17 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "src/core/files.h"
 #include "src/core/pose.h"
+
+// CLI11 is included only by the units that add options (it costs seconds per unit to compile).
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace robossis::apps {
 

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "haptics/transfer/transfer_config.h"
 #include "src/apps/app_context.h"
 #include "src/core/parse.h"

@@ -1,9 +1,12 @@
 // `robossis demo`: a complete simulated session and its report.
 
 #include <chrono>
+#include <iterator>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+
+#include <CLI/CLI.hpp>
 
 #include "src/apps/demo.h"
 #include "src/apps/demo_teleop_section.h"
@@ -49,13 +52,28 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
                 << "` on the configuration in `" << context.data_dir.string() << "/config`. "
                 << "Every number below is computed by this run; the data behind each table and figure is in this "
                    "folder.\n\n";
-    using Section = void (*)(DemoContext&);
-    const Section sections[] = {&WriteRobotSection,    &WriteWorkspaceSection, &WriteRenderingSection,
-                                &WriteTransferSection, &WriteSimSection,       &WriteTrackingSection,
-                                &WriteChainSection,    &WriteTeleopSection,    &WriteLinkSection};
-    for (const Section section : sections) section(demo);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    struct Section {
+      const char* name;
+      void (*write)(DemoContext&);
+    };
+    const Section sections[] = {{"robots", &WriteRobotSection},     {"workspaces", &WriteWorkspaceSection},
+                                {"rendering", &WriteRenderingSection}, {"transfer", &WriteTransferSection},
+                                {"simulation", &WriteSimSection},      {"tracking", &WriteTrackingSection},
+                                {"chain", &WriteChainSection},         {"teleop", &WriteTeleopSection},
+                                {"link", &WriteLinkSection}};
+    const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+    const int count = static_cast<int>(std::size(sections));
+    for (int i = 0; i < count; ++i) {
+      const auto section_start = std::chrono::steady_clock::now();
+      sections[i].write(demo);
+      // What a newcomer watching a run of several minutes wants to see: how far along it is.
+      demo.Progress("section " + std::to_string(i + 1) + " of " + std::to_string(count) + " (" +
+                    sections[i].name + ") took " + FormatFixed(seconds_since(section_start), 0) + " s; " +
+                    FormatFixed(seconds_since(start), 0) + " s so far");
+    }
+    const double seconds = seconds_since(start);
     demo.report << "---\nRun time: " << seconds << " s.\n";
     out.Write("report.md", demo.report.str());
     out.Commit();

@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "robot/drivers/hal_file.h"
 #include "src/apps/app_context.h"
 #include "src/core/files.h"

@@ -4,6 +4,9 @@
 #include <memory>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "robot/sigma7_model.h"
 #include "src/apps/app_context.h"
 #include "src/apps/rsr_json.h"

@@ -3,6 +3,8 @@
 #include <iostream>
 #include <memory>
 
+#include <CLI/CLI.hpp>
+
 #include "src/apps/app_context.h"
 #include "src/link/keys.h"
 

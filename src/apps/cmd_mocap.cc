@@ -5,6 +5,9 @@
 #include <memory>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "calibration/mocap_track.h"
 #include "calibration/synthetic_tracker.h"
 #include "calibration/tracking_eval.h"

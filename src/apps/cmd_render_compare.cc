@@ -7,6 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "haptics/rendering/renderer_factory.h"
 #include "src/core/units.h"
 #include "src/apps/plotting.h"

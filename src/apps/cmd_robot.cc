@@ -7,6 +7,9 @@
 #include <sstream>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "robot/rsr_kinematics.h"
 #include "src/apps/app_context.h"
 #include "src/apps/rsr_json.h"

@@ -3,6 +3,9 @@
 #include <iostream>
 #include <memory>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "robot/sim/scenario.h"
 #include "src/apps/app_context.h"
 #include "src/apps/rsr_json.h"

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "src/apps/cmd_teleop.h"
 #include "src/apps/link_cli.h"
 #include "src/apps/teleop_options.h"

@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "haptics/transfer/hc_trajectory.h"
 #include "src/apps/app_context.h"
 #include "src/apps/plotting.h"

@@ -7,6 +7,9 @@
 #include <optional>
 #include <string>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "geometry/atlas_error.h"
 #include "geometry/boundary_atlas.h"
 #include "geometry/live_boundary.h"

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "haptics/rendering/renderer_factory.h"
 #include "src/apps/demo.h"
 #include "src/apps/render_compare.h"

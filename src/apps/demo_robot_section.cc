@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "robot/rsr_kinematics.h"
 #include "robot/sigma7_model.h"
 #include "src/apps/demo.h"

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "calibration/synthetic_tracker.h"
 #include "calibration/tracking_eval.h"
 #include "calibration/tracking_report.h"

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "src/apps/demo.h"
 #include "src/apps/transfer_run.h"
 #include "src/core/units.h"

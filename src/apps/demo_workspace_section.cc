@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "geometry/atlas_error.h"
 #include "geometry/live_boundary.h"
 #include "geometry/boundary_atlas.h"

@@ -3,6 +3,8 @@
 #include <ostream>
 #include <stdexcept>
 
+#include <CLI/CLI.hpp>
+
 namespace robossis::apps {
 
 void AddLinkOptions(CLI::App& command, link::LinkOptions& options) {

@@ -4,9 +4,12 @@
 
 #include <iosfwd>
 
-#include <CLI/CLI.hpp>
-
 #include "src/link/link_options.h"
+
+// CLI11 is included only by the units that add options (it costs seconds per unit to compile).
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace robossis::apps {
 

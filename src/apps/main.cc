@@ -7,6 +7,8 @@
 #include <string>
 #include <iostream>
 
+#include <CLI/CLI.hpp>
+
 #include "src/apps/app_context.h"
 #include "src/apps/cmd_teleop.h"
 #include "src/core/config.h"

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "src/core/units.h"
 
 namespace robossis::apps {

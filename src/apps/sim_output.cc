@@ -1,5 +1,7 @@
 #include "src/apps/sim_output.h"
 
+#include <nlohmann/json.hpp>
+
 #include "src/core/units.h"
 
 namespace robossis::apps {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <iostream>
 
+#include <CLI/CLI.hpp>
+
 #include "geometry/boundary_atlas.h"
 #include "haptics/rendering/method_names.h"
 #include "src/apps/plotting.h"

@@ -6,8 +6,6 @@
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
 #include "src/apps/app_context.h"
 #include "src/core/files.h"
 #include "src/teleop/teleop_session.h"

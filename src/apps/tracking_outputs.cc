@@ -1,5 +1,7 @@
 #include "src/apps/tracking_outputs.h"
 
+#include <nlohmann/json.hpp>
+
 #include "calibration/tracking_report.h"
 
 namespace robossis::apps {

@@ -1,5 +1,7 @@
 #include "src/apps/workspace_json.h"
 
+#include <nlohmann/json.hpp>
+
 #include "haptics/haptics_config.h"
 #include "src/core/units.h"
 

@@ -2,7 +2,7 @@
 // JSON summaries of workspace slices and atlas errors, shared by `robossis workspace` and the demo report, and the
 // configured live-slice options they measure.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "geometry/atlas_error.h"
 #include "geometry/workspace_slice.h"

@@ -1,5 +1,7 @@
 #include "src/link/link_statistics.h"
 
+#include <nlohmann/json.hpp>
+
 namespace robossis::link {
 
 nlohmann::ordered_json ToJson(const FollowerLinkStatistics& s) {

@@ -7,6 +7,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "robot/actuation/step_rate.h"
 #include "src/core/units.h"
 #include "src/teleop/delay_estimate.h"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "haptics/transfer/hc_trajectory.h"
 #include "haptics/transfer/motion_transfer.h"

@@ -1,6 +1,7 @@
 // The comparison: summary keys, table, and that the metrics see what they should.
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "haptics/scenarios/compare.h"
 #include "test_util.h"

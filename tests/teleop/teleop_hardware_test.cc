@@ -77,7 +77,7 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
                                                                                         start.p[2] + 0.005);
 
   TeleopRequest request;
-  request.device = std::string("dhd:lib=") + FAKE_DHD_LIBRARY;
+  request.device = "dhd:lib=" FAKE_DHD_LIBRARY;
   request.follower = "hal";
   request.method = "proxy-safe";
   request.real_clock = true;

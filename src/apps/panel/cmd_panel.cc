@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include "haptics/haptics_config.h"
 #include "haptics/transfer/transfer_config.h"
 #include "robot/actuation/actuation_config.h"
