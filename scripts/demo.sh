@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Installs, builds and runs `robossis demo` on the default configuration; the report goes to demo-report/.
+# Each stage says what it does and how long it took; the build shows ninja's [done/total] progress.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-bash scripts/build.sh
-./build/robossis demo --out demo-report "$@"
+source scripts/stage.sh
+stage "install the Debian packages that are missing" bash scripts/install-deps.sh
+stage "configure and build build/ (Release; about 6 min from cold on 2 cores)" bash scripts/build.sh
+stage "run robossis demo (about 4 min; each section reports its time)" ./build/robossis demo --out demo-report "$@"
+echo "demo.sh: report in demo-report/report.md; ${SECONDS} s in all"

@@ -1,15 +1,12 @@
 #!/usr/bin/env bash
-# The README's test command, and CI's: installs what is needed, builds the `asan` preset (build-asan/: the whole
-# project, benchmarks included, with AddressSanitizer + UndefinedBehaviorSanitizer) and runs the whole test suite
-# under the sanitizers (CTest: unit tests, the CLI and hostile-input suites, a fast `robossis demo`). Every heap
-# error, leak or undefined behaviour fails the test that hit it. The same suite on the optimised build that
-# `scripts/demo.sh` and the benchmarks use: scripts/test-release.sh.
+# The README's test command: installs what is needed, builds build/ (Release, as scripts/demo.sh and the
+# benchmarks use: every library, the program, every test and benchmark) and runs the whole test suite on it (CTest:
+# unit tests, the CLI and hostile-input suites, a fast `robossis demo`). About 15 min from cold on 2 cores
+# (RELIABILITY.md). The same suite under AddressSanitizer and UndefinedBehaviorSanitizer is scripts/test-asan.sh;
+# CI (.ci/run) runs both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)  # not a dependency
-cmake --preset asan "${launcher[@]}" "$@"
-cmake --build --preset asan --parallel "$(nproc)"
-# Sanitized code runs ~2-5x slower than Release: a longer per-test timeout than scripts/test-release.sh.
-ctest --preset asan --parallel "$(nproc)" --timeout 3000
+source scripts/stage.sh
+stage "install the Debian packages that are missing" bash scripts/install-deps.sh
+stage "configure and build build/ (Release; about 6 min from cold on 2 cores)" bash scripts/build.sh "$@"
+stage "run the whole suite on build/" ctest --test-dir build --output-on-failure --parallel "$(nproc)" --timeout 1500
