@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is needed, builds build/ (Release, as scripts/demo.sh and the
 # benchmarks use: every library, the program, every test and benchmark) and runs the whole test suite on it (CTest:
-# unit tests, the CLI and hostile-input suites, a fast `robossis demo`). About 15 min from cold on 2 cores
+# unit tests, the CLI and hostile-input suites, a fast `robossis demo`). About 10 min from cold on 2 cores
 # (RELIABILITY.md). The same suite under AddressSanitizer and UndefinedBehaviorSanitizer is scripts/test-asan.sh;
 # CI (.ci/run) runs both.
 set -euo pipefail
