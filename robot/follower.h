@@ -38,7 +38,7 @@ const char* ToString(FollowerFault fault);
 
 // What the follower measures.
 struct RsrFollowerState {
-  double time_s = 0;
+  double time_s = 0;  // when this was measured, on the back end's clock (the simulation: its physics time)
   RsrJointVector q = RsrJointVector::Zero();                // actuated joints, eq. 13 order
   Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();  // moving-ring pose (measured, or FK of q)
   RsrJointVector effort = RsrJointVector::Zero();           // rotary torques (N·m), linear forces (N)

@@ -208,6 +208,7 @@ void FollowerUnit::Tick() noexcept {
   StorePose(X_cmd_, rec.cmd_p_FM, rec.cmd_q_FM);
   StoreVector<6>(twist_cmd_, rec.cmd_twist_F);
   StoreVector<6>(out.command.q, rec.cmd_joints);
+  rec.meas_time_s = measured.time_s;
   StorePose(measured.X_FM, rec.meas_p_FM, rec.meas_q_FM);
   StoreVector<6>(measured.q, rec.meas_joints);
   StoreVector<6>(measured.effort, rec.effort);

@@ -50,7 +50,9 @@ struct FollowerTickRecord {
   std::array<double, 4> cmd_q_FM{1, 0, 0, 0};
   std::array<double, 6> cmd_twist_F{};
   std::array<double, 6> cmd_joints{};
-  // What the back end measured after Service().
+  // What the back end measured after Service(), and when, on the back end's own clock (the simulation's physics
+  // time, which advances in whole steps): speeds are differences over this time, not over the ticks.
+  double meas_time_s = 0;
   std::array<double, 3> meas_p_FM{};
   std::array<double, 4> meas_q_FM{1, 0, 0, 0};
   std::array<double, 6> meas_joints{};

@@ -103,19 +103,19 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   min_margin_ = std::min(min_margin_, r.meas_min_margin);
   if (!Finite(r.cmd_p_FM) || !Finite(r.cmd_q_FM) || !Finite(r.cmd_joints)) ++nonfinite_;
   const Eigen::Isometry3d meas = Pose(r.meas_p_FM, r.meas_q_FM);
-  // Speeds over 100 ticks (10 ms at 10 kHz): finite differences of the measured pose. Not shorter: the Bullet
-  // back end measures at its own 1 kHz physics step and catches up in bursts after a late tick, so a 1 ms window
-  // could hold two steps of motion (twice the true speed).
+  // Speeds over 100 ticks (10 ms at 10 kHz): finite differences of the measured pose over the measurements' own
+  // times. Not over the ticks' times: the Bullet back end measures at its own 1 kHz physics step and catches up in
+  // bursts after a late tick, so 100 ticks can hold 11 steps of motion (1.1 times the true speed; 2 in 1 ms).
   if (follower_ticks_ >= window_.size()) {
     const auto& [t0, X0] = window_[window_next_];
-    const double dt = r.time_s - t0;
+    const double dt = r.meas_time_s - t0;
     if (dt > 0) {
       max_speed_m_s_ = std::max(max_speed_m_s_, (meas.translation() - X0.translation()).norm() / dt);
       max_angular_speed_rad_s_ =
           std::max(max_angular_speed_rad_s_, RotationAngleBetween(meas.linear(), X0.linear()) / dt);
     }
   }
-  window_[window_next_] = {r.time_s, meas};
+  window_[window_next_] = {r.meas_time_s, meas};
   window_next_ = (window_next_ + 1) % window_.size();
   const int state = static_cast<int>(r.state);
   if (state != follower_state_) {

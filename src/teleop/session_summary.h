@@ -65,7 +65,7 @@ class SessionSummary {
   std::uint64_t limit_violations_ = 0;
   std::array<std::uint64_t, kNumSetPointVerdicts> rejected_by_verdict_{};  // the set-points the follower refused
   double min_margin_ = 1e9;
-  std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 100 measured poses (10 ms at 10 kHz)
+  std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 100 measurements (10 ms at 10 kHz): time, pose
   std::size_t window_next_ = 0;
   double max_speed_m_s_ = 0;
   double max_angular_speed_rad_s_ = 0;

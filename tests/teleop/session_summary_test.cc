@@ -33,6 +33,28 @@ TEST(SessionSummaryTest, CountsRefusedSetPointsByReasonFromTheRecords) {
   EXPECT_EQ(s.at("follower_ticks"), 50);
 }
 
+TEST(SessionSummaryTest, TheFollowersSpeedIsMeasuredOverItsMeasurementsNotItsTicks) {
+  // A back end that measures once per 1 ms step (the Bullet simulation) moving at exactly 10 mm/s, read by 10 kHz
+  // ticks; one step in three lands a tick late, so a window of 100 ticks sometimes holds 11 steps of motion. Over
+  // the ticks' times that window reads 11 mm/s; over the measurements' own times it is the true 10 mm/s.
+  SessionSummary summary(SummaryOptions{});
+  constexpr double kSpeed = 0.01;  // m/s
+  int steps_done = 0;
+  for (int tick = 1; tick <= 5000; ++tick) {
+    // Step k (1, 2, ...) is due at tick 10k - 5, and steps 3, 6, 9, ... run one tick late.
+    const int next = steps_done + 1;
+    if (tick >= 10 * next - 5 + (next % 3 == 0 ? 1 : 0)) steps_done = next;
+    FollowerTickRecord r;
+    r.tick = static_cast<std::uint64_t>(tick);
+    r.time_s = 1e-4 * tick;
+    r.meas_time_s = 1e-3 * steps_done;
+    r.meas_p_FM = {kSpeed * r.meas_time_s, 0, 0.284};
+    summary.AddFollower(r);
+  }
+  const auto s = summary.Summary();
+  EXPECT_NEAR(s.at("max_follower_speed_mm_s").get<double>(), 10.0, 1e-9);
+}
+
 TEST(SessionSummaryTest, AHugeValueStaysOneShortCell) {
   SessionSummary summary(SummaryOptions{});
   LeaderTickRecord r;
