@@ -6,13 +6,17 @@
 // What a driver needs, and why each call is here: drives are powered (Enable) and unpowered (Disable, which holds
 // the brakes or the current position); incremental encoders need a reference (Home); a latched drive fault needs an
 // explicit acknowledgement (ResetFault). Service() is the back end's periodic work at the follower's servo rate
-// (step the simulation to `now_s`, exchange HAL pins), called by the follower unit after Command().
+// (exchange HAL pins, take the simulated robot's newest measurement), called by the follower unit after Command().
 
 #include <cstdint>
 
 #include <Eigen/Geometry>
 
 #include "robot/rsr_kinematics.h"
+
+namespace robossis::rt {
+class PeriodicTask;
+}  // namespace robossis::rt
 
 namespace robossis::robot {
 
@@ -65,6 +69,15 @@ class Follower {
   // Periodic work of the back end up to runtime time now_s (physics steps, pin exchange).
   virtual void Service(double now_s) noexcept = 0;
   virtual RsrFollowerState State() const noexcept = 0;
+
+  // A back end whose robot runs beside the controller at a rate of its own (the simulated robot) names its task
+  // here; the runtime ticks it on a loop of its own (rt::RunRealTime, rt::RunSimulated), as real drives and a real
+  // robot run beside the control loop. Back ends without one (hardware, the pulse recorder) return no task.
+  struct Plant {
+    rt::PeriodicTask* task = nullptr;
+    std::int64_t period_ns = 0;
+  };
+  virtual Plant plant() noexcept { return {}; }
 };
 
 }  // namespace robossis::robot

@@ -332,6 +332,7 @@ RsrSimulation::RsrSimulation(const robot::RsrModel& model, const SimConfig& conf
   command_.time_s = 0;
   command_.q = ik.joints.actuated();
   command_.q_dot.setZero();
+  target_ = command_;
   state_.enabled = true;
   state_.homed = true;
   Measure();
@@ -353,6 +354,7 @@ void RsrSimulation::Disable() noexcept {
   command_.time_s = time_s_;
   command_.q = state_.q;
   command_.q_dot.setZero();
+  target_ = command_;
 }
 
 bool RsrSimulation::ResetFault() noexcept {
@@ -367,26 +369,57 @@ void RsrSimulation::Command(const robot::RsrJointCommand& command) noexcept {
 }
 
 void RsrSimulation::Service(double now_s) noexcept {
-  // Steps whose end is due by now_s (half a step of tolerance against rounding).
+  // Steps whose end is due by now_s (half a step of tolerance against rounding). A fault in any of them is the
+  // call's fault, though later steps may be clean: several steps in one call must not hide one.
+  robot::FollowerFault first = robot::FollowerFault::kNone;
   while (time_s_ + 0.5 * step_s_ <= now_s) {
-    if (Step() == SimStepStatus::kUnstable) return;
+    const SimStepStatus status = Step();
+    if (first == robot::FollowerFault::kNone) first = state_.fault;
+    if (status == SimStepStatus::kUnstable) break;
   }
+  if (first != robot::FollowerFault::kNone) state_.fault = first;
+}
+
+void RsrSimulation::SkipTo(double time_s) noexcept {
+  if (!(time_s > time_s_)) return;
+  time_s_ = time_s;
+  state_.time_s = time_s;
+  target_.time_s = time_s;
 }
 
 robot::RsrFollowerState RsrSimulation::State() const noexcept { return state_; }
 
+robot::RsrJointCommand RsrSimulation::DriveTargetAt(double t_s) const noexcept {
+  robot::RsrJointCommand target;
+  target.time_s = t_s;
+  if (command_.time_s > t_s && target_.time_s < t_s) {
+    // The newest command is from after this step's end: the physics runs behind the commands (a late step, caught
+    // up). The drives then follow the path between the target they had and that command, at the times the
+    // commands were given, rather than reaching for the newest one in one step.
+    const double span = command_.time_s - target_.time_s;
+    const double a = (t_s - target_.time_s) / span;
+    target.q = target_.q + a * (command_.q - target_.q);
+    target.q_dot = (command_.q - target_.q) / span;
+    return target;
+  }
+  const double ahead = std::clamp(t_s - command_.time_s, 0.0, config_.physics.command_extrapolation_max_s);
+  target.q = command_.q + command_.q_dot * ahead;
+  target.q_dot = command_.q_dot;
+  return target;
+}
+
 SimStepStatus RsrSimulation::Step() noexcept {
   Bullet& b = *bullet_;
   const double t_end = time_s_ + step_s_;
-  const double ahead = std::clamp(t_end - command_.time_s, 0.0, config_.physics.command_extrapolation_max_s);
+  target_ = DriveTargetAt(t_end);
   for (int j = 0; j < 6; ++j) {
     if (config_.actuators.mode == DriveMode::kPosition) {
       // rhs = kp·erp·(q* − q)/dt + q̇ + kd·(0 − q̇) = (q* − q)/dt: the drive reaches q* at the end of the step.
-      b.motors[j]->setPositionTarget(command_.q[j] + command_.q_dot[j] * ahead, 1.0);
+      b.motors[j]->setPositionTarget(target_.q[j], 1.0);
       b.motors[j]->setVelocityTarget(0.0, 1.0);
     } else {
       b.motors[j]->setPositionTarget(0.0, 0.0);
-      b.motors[j]->setVelocityTarget(command_.q_dot[j], 1.0);
+      b.motors[j]->setVelocityTarget(target_.q_dot[j], 1.0);
     }
   }
   // Muscle traction from the state at the start of the step (explicit), applied at the ring's centre of mass.

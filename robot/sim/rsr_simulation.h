@@ -57,8 +57,11 @@ class RsrSimulation final : public robot::Follower {
 
   // robot::Follower. The simulation starts enabled and homed at its start pose (the offline studies command it
   // directly); disabled, its drives hold the joints where they are. The command is extrapolated with its velocity
-  // to the end of each step (at most config.physics.command_extrapolation_max_s past its time stamp). Service()
-  // steps the physics until the simulated time reaches now_s. The fault code is the last step's condition.
+  // to the end of each step (at most config.physics.command_extrapolation_max_s past its time stamp); a step that
+  // ends before the newest command's time stamp (the physics catching up after a late step) targets the straight
+  // path from the previous step's target to that command, at the step's time. Service() steps the physics until
+  // the simulated time reaches now_s. The fault code is the last step's condition, or after Service() the first
+  // fault of the steps it made.
   bool Enable() noexcept override;
   void Disable() noexcept override;
   bool Home() noexcept override { return true; }
@@ -69,6 +72,9 @@ class RsrSimulation final : public robot::Follower {
 
   // Advances the physics by one step of 1/step_hz.
   SimStepStatus Step() noexcept;
+  // Moves the simulated time forward to time_s without stepping the physics (nothing moves meanwhile, velocities
+  // kept): for a simulation that fell too far behind real time to catch up. Earlier times are ignored.
+  void SkipTo(double time_s) noexcept;
 
   const SimDiagnostics& diagnostics() const { return diagnostics_; }
   double time_s() const { return time_s_; }
@@ -85,10 +91,12 @@ class RsrSimulation final : public robot::Follower {
   std::optional<MuscleTraction> traction_;
   double step_s_ = 1e-3;
   double time_s_ = 0;
-  robot::RsrJointCommand command_;
+  robot::RsrJointCommand command_;  // the newest command
+  robot::RsrJointCommand target_;   // the drives' target at the end of the last step
   robot::RsrFollowerState state_;
   SimDiagnostics diagnostics_;
   void Measure() noexcept;
+  robot::RsrJointCommand DriveTargetAt(double t_s) const noexcept;
 };
 
 }  // namespace robossis::sim

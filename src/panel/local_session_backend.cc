@@ -36,6 +36,7 @@ LocalSessionBackend::LocalSessionBackend(const robot::RsrModel& model, std::uniq
       player_(link_, clock, setpoint_period_s_) {
   if (!back_end_) throw std::invalid_argument("panel session: no follower back end");
   back_end_->Disable();  // the follower starts DISABLED, drives holding
+  plant_ = back_end_->plant();
   unit_ = std::make_unique<teleop::FollowerUnit>(model_, actuation_config_, follower_config_, *back_end_, link_,
                                                  clock_);
   health_record_.period_s = period_s_;
@@ -79,9 +80,18 @@ std::vector<std::string> LocalSessionBackend::Start() {
   leader.fifo_priority = rt::kHapticLoopFifoPriority;
   follower_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, follower_task_, follower);
   leader_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, leader_task_, leader);
+  std::vector<rt::PeriodicLoop*> loops = {leader_loop_.get(), follower_loop_.get()};
+  if (plant_.task != nullptr) {
+    rt::LoopOptions plant;
+    plant.name = "panel plant";
+    plant.period_ns = plant_.period_ns;
+    plant.fifo_priority = rt::kPlantLoopFifoPriority;
+    plant_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, *plant_.task, plant);
+    loops.push_back(plant_loop_.get());
+  }
   const std::int64_t start_ns = std::llround(clock->NowS() * 1e9) + leader.period_ns;  // on the clock
   std::vector<std::string> warnings;
-  for (rt::PeriodicLoop* loop : {leader_loop_.get(), follower_loop_.get()})
+  for (rt::PeriodicLoop* loop : loops)
     if (std::string warning = loop->Start(start_ns); !warning.empty()) warnings.push_back(std::move(warning));
   return warnings;
 }
@@ -89,6 +99,7 @@ std::vector<std::string> LocalSessionBackend::Start() {
 void LocalSessionBackend::Stop() {
   if (follower_loop_) follower_loop_->Stop();
   if (leader_loop_) leader_loop_->Stop();
+  if (plant_loop_) plant_loop_->Stop();
 }
 
 bool LocalSessionBackend::ReadLeaderRecord(teleop::LeaderTickRecord& record) noexcept {
@@ -304,6 +315,13 @@ void LocalSessionBackend::FollowerTick() noexcept {
   ++health_record_.ticks;
   ++tick_;
   unit_->Tick();  // the follower unit: the one validated path
+  if (!threaded_ && plant_.task != nullptr) {  // without the loops the plant is due here, after the command
+    const std::int64_t now_ns = std::llround(now_s * 1e9);
+    if (now_ns >= next_plant_ns_) {
+      plant_.task->Tick(now_ns);
+      next_plant_ns_ = now_ns - now_ns % plant_.period_ns + plant_.period_ns;  // skipped, not made up
+    }
+  }
 
   const Eigen::Isometry3d& X = unit_->commanded_pose();
   const Eigen::Quaterniond q(X.linear());

@@ -192,11 +192,14 @@ class LocalSessionBackend final : public PanelBackend {
   double last_step_s_ = -1;
   LoopHealth health_record_;
 
-  bool threaded_ = false;  // the leader side runs on its own loop
+  bool threaded_ = false;  // the leader side (and the back end's plant, if any) run on loops of their own
   FollowerTask follower_task_{*this};
   LeaderTask leader_task_{*this};
+  robot::Follower::Plant plant_;  // the back end's robot, if it runs beside the controller (the simulation)
+  std::int64_t next_plant_ns_ = 0;  // Step() without the loops: when the plant is next due
   std::unique_ptr<rt::PeriodicLoop> follower_loop_;
   std::unique_ptr<rt::PeriodicLoop> leader_loop_;
+  std::unique_ptr<rt::PeriodicLoop> plant_loop_;
 };
 
 }  // namespace robossis::panel

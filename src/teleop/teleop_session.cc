@@ -10,6 +10,7 @@
 #include "robot/actuation/pulse_recorder_follower.h"
 #include "robot/drivers/hal_follower.h"
 #include "robot/sim/rsr_simulation.h"
+#include "robot/sim/simulated_plant.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/flight_recorder.h"
 #include "src/teleop/follower_unit.h"
@@ -30,7 +31,9 @@ std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, co
     sim::SimOptions options;
     options.with_bone = false;  // at the home pose the fragments touch: a motion would push one into the other
     options.with_traction = false;
-    return std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+    // The simulated robot steps on a loop of its own (sim::SimulatedPlant), not inside the follower's tick.
+    return std::make_unique<sim::SimulatedPlant>(
+        std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options));
   }
   if (kind == "hal") return drivers::MakeHalFollower(rsr, setup.config_dir);
   if (kind == "recorder") {
@@ -202,6 +205,14 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     o.period_ns = std::llround(1e9 / follower_rate_hz);
     o.fifo_priority = rt::kActuationLoopFifoPriority;
     tasks.push_back({follower->unit.get(), o});
+    // Ticked after the follower unit when both are due, as the robot moves after the command reached it.
+    if (const robot::Follower::Plant plant = follower->back_end->plant(); plant.task != nullptr) {
+      rt::LoopOptions p;
+      p.name = "plant";
+      p.period_ns = plant.period_ns;
+      p.fifo_priority = rt::kPlantLoopFifoPriority;
+      tasks.push_back({plant.task, p});
+    }
   }
 
   rt::RunResult run;

@@ -16,8 +16,10 @@
 //
 // The runtime is wired as `robossis teleop --device sim --clock real` wires it (the simulated sigma.7 and its hand,
 // the leader unit at 1 kHz and the follower unit at 10 kHz on their own threads on absolute deadlines through
-// rt::RunRealTime, the in-process link, one clock for both); the follower's back end is the pulse recorder (arg 0)
-// or the Bullet simulation (arg 1). Budgets: the leader's 1 ms tick, and the 50 ms hand-to-set-point goal.
+// rt::RunRealTime, the in-process link, one clock for both); the follower's back end is the pulse recorder (arg 0),
+// the Bullet simulation as a plant on its own 1 kHz loop (arg 1, what `robossis teleop --follower sim` runs), or the
+// same simulation stepped inside the follower's tick by Service() (arg 2, the design it replaced, for comparison).
+// Budgets: the leader's 1 ms tick, the follower's 100 µs tick, and the 50 ms hand-to-set-point goal.
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +34,7 @@
 #include "haptics/transfer/motion_transfer.h"
 #include "robot/actuation/pulse_recorder_follower.h"
 #include "robot/sim/rsr_simulation.h"
+#include "robot/sim/simulated_plant.h"
 #include "src/core/config.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/delay_estimate.h"
@@ -67,15 +70,20 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
   std::vector<double> latency_us, follower_part_us, wait_us;  // wait: sample → the follower tick's start
   std::uint64_t leader_overruns = 0, follower_overruns = 0, used = 0, realtime_refused = 0;
+  std::uint64_t follower_ticks = 0, plant_overruns = 0;
+  // The follower loop's own tick (LoopStats::tick_duration, wall time from the tick's start to its end).
+  double follower_tick_p50_us = 0, follower_tick_p99_us = 0, follower_tick_max_us = 0, plant_tick_p99_us = 0;
   for (auto _ : state) {
     rt::MonotonicClock clock;
     InProcessLink link(clock);
     std::unique_ptr<robot::Follower> back_end;
-    if (state.range(0) == 1) {
+    if (state.range(0) >= 1) {
       sim::SimOptions options;
       options.with_bone = false;
       options.with_traction = false;
-      back_end = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+      auto simulation = std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options);
+      if (state.range(0) == 1) back_end = std::make_unique<sim::SimulatedPlant>(std::move(simulation));
+      else back_end = std::move(simulation);  // 2: stepped inside the follower's tick (Service), for comparison
     } else {
       const auto n = static_cast<std::size_t>(duration_s * follower_rate_hz + 1000.0);
       back_end = std::make_unique<actuation::PulseRecorderFollower>(rsr, setup.actuation, home, n, n);
@@ -111,12 +119,27 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
     follower_loop.name = "follower";
     follower_loop.period_ns = std::llround(1e9 / follower_rate_hz);
     follower_loop.fifo_priority = 81;
-    const rt::RunResult run = rt::RunRealTime(
-        clock, {{&leader, leader_loop}, {&follower, follower_loop}}, duration_s, drain);
+    std::vector<rt::ScheduledTask> tasks = {{&leader, leader_loop}, {&follower, follower_loop}};
+    if (const robot::Follower::Plant plant = back_end->plant(); plant.task != nullptr) {
+      rt::LoopOptions plant_loop;
+      plant_loop.name = "plant";
+      plant_loop.period_ns = plant.period_ns;
+      plant_loop.fifo_priority = rt::kPlantLoopFifoPriority;
+      tasks.push_back({plant.task, plant_loop});
+    }
+    const rt::RunResult run = rt::RunRealTime(clock, tasks, duration_s, drain);
     drain(0);
     realtime_refused += run.warnings.size();
     leader_overruns += run.stats[0].overruns;
     follower_overruns += run.stats[1].overruns;
+    follower_ticks += run.stats[1].ticks;
+    follower_tick_p50_us = std::max(follower_tick_p50_us, run.stats[1].tick_duration.PercentileUs(0.50));
+    follower_tick_p99_us = std::max(follower_tick_p99_us, run.stats[1].tick_duration.PercentileUs(0.99));
+    follower_tick_max_us = std::max(follower_tick_max_us, run.stats[1].tick_duration.max_us());
+    if (run.stats.size() > 2) {
+      plant_tick_p99_us = std::max(plant_tick_p99_us, run.stats[2].tick_duration.PercentileUs(0.99));
+      plant_overruns += run.stats[2].overruns;
+    }
     for (const FollowerTickRecord& r : records) {
       if (!r.took_setpoint || r.setpoint_verdict != SetPointVerdict::kAccepted) continue;
       if (r.state != OperatingState::kEnabled) continue;  // joints commanded from the set-point only when following
@@ -140,8 +163,16 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   state.counters["leader_overruns"] = static_cast<double>(leader_overruns);
   state.counters["realtime_warnings"] = static_cast<double>(realtime_refused);  // SCHED_FIFO or mlockall refused
   state.counters["follower_overruns"] = static_cast<double>(follower_overruns);
+  state.counters["follower_overrun_rate"] =
+      follower_ticks ? static_cast<double>(follower_overruns) / static_cast<double>(follower_ticks) : 0.0;
+  state.counters["follower_tick_p50_us"] = follower_tick_p50_us;
+  state.counters["follower_tick_p99_us"] = follower_tick_p99_us;
+  state.counters["follower_tick_max_us"] = follower_tick_max_us;
+  state.counters["follower_tick_p99_over_period"] = follower_tick_p99_us * 1e-6 * follower_rate_hz;
+  state.counters["plant_tick_p99_us"] = plant_tick_p99_us;  // the simulated robot's own loop (arg 1 only)
+  state.counters["plant_overruns"] = static_cast<double>(plant_overruns);
 }
-BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The motion transfer's filter delay, apart: the hand rests for 0.5 s, then moves at constant speed (a step in
 // velocity), through the leader's own use of the transfer (one sample per 1 kHz tick, then ten 10 kHz actuation

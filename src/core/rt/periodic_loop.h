@@ -3,6 +3,12 @@
 // a late tick does not shift the ones after it), SCHED_FIFO and mlockall where the process is permitted (a warning
 // names what was refused, and the loop runs anyway at normal priority), overruns and period jitter counted.
 //
+// Missed deadlines are skipped, never made up: after a late tick (a stall, a preemption) the next tick is the first
+// deadline still ahead, and each deadline missed counts as an overrun. A control tick acts on the present (it reads
+// the clock and bounds its motion by the time that really passed), so a burst of ticks would only hand the drives a
+// run of commands meant for instants already gone. A task whose model needs every step (the simulated robot's
+// physics) makes them up inside its one late tick, with the commands at their own times (sim::SimulatedPlant).
+//
 // The same tasks run either on threads in real time (RunRealTime, on a MonotonicClock) or stepped
 // deterministically on a SimulatedClock as fast as the machine allows (RunSimulated): each task is ticked at its own
 // period, tasks due at the same instant in the order given. The non-real-time side runs in the calling thread
@@ -18,22 +24,18 @@
 
 #include "src/core/rt/clock.h"
 #include "src/core/rt/loop_stats.h"
+#include "src/core/rt/periodic_task.h"
 
 namespace robossis::rt {
-
-// What a loop runs. Tick() is real-time code: noexcept, allocation-free, lock-free, prints nothing.
-class PeriodicTask {
- public:
-  virtual ~PeriodicTask() = default;
-  // now_ns: the runtime clock at the tick's start (MonotonicClock or SimulatedClock time, ns since its epoch).
-  virtual void Tick(std::int64_t now_ns) noexcept = 0;
-};
 
 // SCHED_FIFO priorities of the runtime's loops, where permitted [assumed]: below the kernel's IRQ threads (50) is
 // wrong for a servo loop; 80 leaves room above for a watchdog. The actuation outranks the haptic loop: a late
 // stepper command is a jerk of the robot, a late haptic tick a softer wall for one tick.
 inline constexpr int kHapticLoopFifoPriority = 80;
 inline constexpr int kActuationLoopFifoPriority = 81;
+// A simulated robot's own loop (the plant a back end runs beside the controller) yields to both: it stands for
+// hardware that would not share the controller's CPU [assumed].
+inline constexpr int kPlantLoopFifoPriority = 79;
 
 struct LoopOptions {
   std::string name = "loop";
