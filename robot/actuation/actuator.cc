@@ -42,9 +42,10 @@ Actuator::Actuator(const robot::RsrModel& model, const ActuationConfig& config, 
   out_.command.q = q_;
 }
 
-const ActuationOutput& Actuator::Tick(double time_s, const Eigen::Isometry3d& X_FM, const Vector6d& twist_F) noexcept {
-  const double t_prev = time_s_;
-  const double dt = time_s - t_prev;  // eq. 16: t_clock(t) - t_clock(t-1), the real tick spacing
+const ActuationOutput& Actuator::Tick(double time_s, const Eigen::Isometry3d& X_FM, const Vector6d& twist_F,
+                                      double max_interval_s) noexcept {
+  const double t_prev = std::max(time_s_, time_s - max_interval_s);
+  const double dt = time_s - t_prev;  // eq. 16: t_clock(t) - t_clock(t-1), the real tick spacing (bounded)
   time_s_ = time_s;
   out_.status = ActuationStatus::kOk;
   out_.limit_flags = 0;

@@ -9,6 +9,7 @@
 // limit is never issued.
 
 #include <array>
+#include <limits>
 #include <cstdint>
 
 #include <Eigen/Geometry>
@@ -49,8 +50,12 @@ class Actuator {
   Actuator(const robot::RsrModel& model, const ActuationConfig& config, const Eigen::Isometry3d& X_FM_start,
            double start_time_s = 0);
 
-  // One 10 kHz tick: the set-point pose and twist [v; omega] (F) at `time_s`. Allocation-free.
-  const ActuationOutput& Tick(double time_s, const Eigen::Isometry3d& X_FM, const Vector6d& twist_F) noexcept;
+  // One 10 kHz tick: the set-point pose and twist [v; omega] (F) at `time_s`. Allocation-free. The tick integrates
+  // over the time since the last one (eq. 16), but at most over max_interval_s: after a stalled loop the caller
+  // moved the pose by at most that interval's motion, and the joints must move with it, not run ahead by the
+  // twist times the whole gap.
+  const ActuationOutput& Tick(double time_s, const Eigen::Isometry3d& X_FM, const Vector6d& twist_F,
+                              double max_interval_s = std::numeric_limits<double>::infinity()) noexcept;
 
   // The motors are at the joints `q` (the back end's measurement) at `time_s`, after ticks were skipped (drives
   // off): the next tick starts from there and from that time, and the steps already issued stand for that

@@ -167,7 +167,8 @@ void FollowerUnit::Tick() noexcept {
   // measured ones, so that powering up again starts from where the robot is, without a jump, however long the
   // drives were off and wherever the robot was pushed meanwhile.
   const actuation::ActuationOutput& out =
-      machine_.powered() ? actuator_.Tick(now, X_cmd_, twist_cmd_) : actuator_.output();
+      machine_.powered() ? actuator_.Tick(now, X_cmd_, twist_cmd_, config_.watchdog.max_tick_interval_s)
+                         : actuator_.output();
   if (machine_.powered() && out.fraction < 1.0) {
     // The motors made only part of the step (a step rate above their maximum, or a joint limit): the commanded pose
     // is the one they reach, the forward kinematics of the actuator's joints, so that it never runs ahead of them.
