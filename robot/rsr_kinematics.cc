@@ -77,18 +77,49 @@ RsrIkResult CalcInverseKinematics(const RsrModel& model, const Eigen::Isometry3d
   return out;
 }
 
+namespace {
+
+// One arm's limits, given its leg (A_i to B_i, in F) and the moving ring's axis z_M (in F).
+inline bool IsLegFeasible(const RsrModel& model, int i, const Eigen::Vector3d& leg, const Eigen::Vector3d& z_M) noexcept {
+  const double d_sq = leg.squaredNorm();
+  if (!(d_sq >= model.stroke_min_sq() && d_sq <= model.stroke_max_sq())) return false;  // also rejects NaN
+  // Spherical cone: n · z_M >= cos(cone_max).
+  if (leg.dot(z_M) < model.cos_cone_max() * std::sqrt(d_sq)) return false;
+  // Rotary: |theta| = |atan2(-tangential, axial)| <= theta_max.
+  const double axial = leg.z();
+  const double tangential = model.tangent_axis_F(i).dot(leg);
+  return axial > 0.0 && std::abs(tangential) <= model.tan_rotary_max() * axial;
+}
+
+}  // namespace
+
 bool IsPoseFeasible(const RsrModel& model, const Eigen::Isometry3d& X_FM) noexcept {
   const Eigen::Vector3d z_M = X_FM.linear().col(2);
   for (int i = 0; i < kNumArms; ++i) {
-    const Eigen::Vector3d leg = X_FM * model.p_MB(i) - model.p_FA(i);
-    const double d_sq = leg.squaredNorm();
-    if (!(d_sq >= model.stroke_min_sq() && d_sq <= model.stroke_max_sq())) return false;  // also rejects NaN
-    // Spherical cone: n · z_M >= cos(cone_max).
-    if (leg.dot(z_M) < model.cos_cone_max() * std::sqrt(d_sq)) return false;
-    // Rotary: |theta| = |atan2(-tangential, axial)| <= theta_max.
-    const double axial = leg.z();
-    const double tangential = model.tangent_axis_F(i).dot(leg);
-    if (!(axial > 0.0) || std::abs(tangential) > model.tan_rotary_max() * axial) return false;
+    if (!IsLegFeasible(model, i, X_FM * model.p_MB(i) - model.p_FA(i), z_M)) return false;
+  }
+  return true;
+}
+
+PoseFeasibilityAround::PoseFeasibilityAround(const RsrModel& model, const Eigen::Isometry3d& X_FM) noexcept
+    : model_(model), z_M_(X_FM.linear().col(2)) {
+  for (int i = 0; i < kNumArms; ++i) {
+    e_[i] = X_FM.linear() * model.p_MB(i);
+    c_[i] = X_FM.translation() - model.p_FA(i);
+  }
+}
+
+bool PoseFeasibilityAround::Translated(const Eigen::Vector3d& offset_F) const noexcept {
+  for (int i = 0; i < kNumArms; ++i) {
+    if (!IsLegFeasible(model_, i, c_[i] + e_[i] + offset_F, z_M_)) return false;
+  }
+  return true;
+}
+
+bool PoseFeasibilityAround::Rotated(const Eigen::Matrix3d& R_step) const noexcept {
+  const Eigen::Vector3d z_M = R_step * z_M_;
+  for (int i = 0; i < kNumArms; ++i) {
+    if (!IsLegFeasible(model_, i, c_[i] + R_step * e_[i], z_M)) return false;
   }
   return true;
 }

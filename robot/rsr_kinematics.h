@@ -62,6 +62,24 @@ RsrIkResult CalcInverseKinematics(const RsrModel& model, const Eigen::Isometry3d
 // trigonometry (one square root per arm): this is the test the haptic point clouds call thousands of times a tick.
 bool IsPoseFeasible(const RsrModel& model, const Eigen::Isometry3d& X_FM) noexcept;
 
+// IsPoseFeasible for the poses a haptic point cloud visits around one pose: that pose translated (one orientation,
+// many positions), or turned about its own position (one position, many orientations). The parts of each leg that
+// do not change across the cloud are computed once, at construction. Keeps a reference to the model.
+class PoseFeasibilityAround {
+ public:
+  PoseFeasibilityAround(const RsrModel& model, const Eigen::Isometry3d& X_FM) noexcept;
+  // X_FM translated by offset_F (in F).
+  bool Translated(const Eigen::Vector3d& offset_F) const noexcept;
+  // X_FM turned by R_step at its position: orientation R_step · R_FM.
+  bool Rotated(const Eigen::Matrix3d& R_step) const noexcept;
+
+ private:
+  const RsrModel& model_;
+  Eigen::Vector3d z_M_;
+  std::array<Eigen::Vector3d, kNumArms> e_;  // R_FM · b_i
+  std::array<Eigen::Vector3d, kNumArms> c_;  // p_FM − a_i
+};
+
 // The Jacobian of eq. 15, q_dot = J · [v; omega], by reciprocal screws: rows in eq. 13 order, columns the linear
 // and angular velocity of the moving ring (at P, in F). Singular when some cos(psi_i) = 0.
 Matrix6d CalcJacobian(const RsrModel& model, const Eigen::Isometry3d& X_FM) noexcept;

@@ -65,12 +65,11 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
 
   // Rotational cloud: orientations exp(ρ_j)·R_HC at the HC position. (Evaluated first: the translational cloud of a
   // soft torque wall needs to know whether it is in contact.)
-  Eigen::Isometry3d X = state.X_FM;
+  const robot::PoseFeasibilityAround around_hc(model_, state.X_FM);
   Eigen::Vector3d sum_rot_in = Eigen::Vector3d::Zero();
   int inside = 0;
   for (std::size_t j = 0; j < rotation_steps_.size(); ++j) {
-    X.linear() = rotation_steps_[j] * R;
-    if (robot::IsPoseFeasible(model_, X)) {
+    if (around_hc.Rotated(rotation_steps_[j])) {
       sum_rot_in += rotation_offsets_[j];
       ++inside;
     }
@@ -102,13 +101,14 @@ HapticStatus PointCloudRenderer::Render(const RsrSideState& state, Eigen::Vector
   // energy"). The converse coupling (the rotational cloud at the HC position) stays: the stiff translational wall
   // holds the position, and the soft torque it drives stores at most ~1 mJ in the hand.
   if (!decoupled_ || outside_r_ == 0) R_translation_cloud_ = R;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
   X.linear() = R_translation_cloud_;
   X.translation() = p;
+  const robot::PoseFeasibilityAround around_cloud_centre(model_, X);
   Eigen::Vector3d sum_in = Eigen::Vector3d::Zero();
   inside = 0;
   for (const Eigen::Vector3d& offset : translation_offsets_) {
-    X.translation() = p + offset;
-    if (robot::IsPoseFeasible(model_, X)) {
+    if (around_cloud_centre.Translated(offset)) {
       sum_in += offset;
       ++inside;
     }

@@ -65,6 +65,29 @@ void BM_IsPoseFeasible(benchmark::State& state) {
 }
 BENCHMARK(BM_IsPoseFeasible);
 
+// A 200-point translational cloud's feasibility around a pose at the edge: each pose tested whole (arg 0,
+// IsPoseFeasible) or with the legs' fixed parts computed once (arg 1, PoseFeasibilityAround, what the renderer uses).
+void BM_TranslationCloudFeasibility(benchmark::State& state) {
+  const Path path(true);
+  const std::vector<Eigen::Vector3d> units = FibonacciSphere(200);
+  int k = 0, inside = 0;
+  for (auto _ : state) {
+    const Eigen::Isometry3d& X = path.poses[k++ & 63];
+    if (state.range(0) == 0) {
+      Eigen::Isometry3d Y = X;
+      for (const Eigen::Vector3d& unit : units) {
+        Y.translation() = X.translation() + 0.015 * unit;
+        inside += robot::IsPoseFeasible(Rsr(), Y);
+      }
+    } else {
+      const robot::PoseFeasibilityAround around(Rsr(), X);
+      for (const Eigen::Vector3d& unit : units) inside += around.Translated(0.015 * unit);
+    }
+  }
+  benchmark::DoNotOptimize(inside);
+}
+BENCHMARK(BM_TranslationCloudFeasibility)->Arg(0)->Arg(1)->ArgName("around")->Unit(benchmark::kMicrosecond);
+
 // Arguments: points per cloud (each of the two clouds), at the edge (1) or in free space (0).
 void BM_PointCloudTick(benchmark::State& state) {
   PointCloudParams cloud = Config().cloud;

@@ -90,6 +90,32 @@ TEST_F(RsrKinematicsTest, FastFeasibilityAgreesWithInverseKinematics) {
   EXPECT_GT(infeasible, 500);
 }
 
+TEST_F(RsrKinematicsTest, FeasibilityAroundAPoseAgreesWithThePoseTest) {
+  // A point cloud's poses (15 mm translations, 5° turns) around random poses, many across the boundary: the
+  // precomputed legs give the verdict of IsPoseFeasible on the same pose.
+  std::mt19937 gen{11};
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int feasible = 0, infeasible = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Eigen::Isometry3d X = RandomPose(gen);
+    const PoseFeasibilityAround around(model_, X);
+    for (int j = 0; j < 10; ++j) {
+      const Eigen::Vector3d offset = 0.015 * Eigen::Vector3d(u(gen), u(gen), u(gen));
+      Eigen::Isometry3d X_t = X;
+      X_t.translation() += offset;
+      const bool expected = IsPoseFeasible(model_, X_t);
+      EXPECT_EQ(around.Translated(offset), expected);
+      const Eigen::Matrix3d R_step = RotationFromRpy(DegToRad(5) * Eigen::Vector3d(u(gen), u(gen), u(gen)));
+      Eigen::Isometry3d X_r = X;
+      X_r.linear() = R_step * X.linear();
+      EXPECT_EQ(around.Rotated(R_step), IsPoseFeasible(model_, X_r));
+      (expected ? feasible : infeasible)++;
+    }
+  }
+  EXPECT_GT(feasible, 500);
+  EXPECT_GT(infeasible, 500);
+}
+
 TEST_F(RsrKinematicsTest, JacobianMatchesCentralFiniteDifferencesOfIk) {
   std::mt19937 gen{3};
   const double h = 1e-6;
