@@ -46,7 +46,12 @@ HapticsConfig HapticsConfig::FromConfig(const ConfigNode& root) {
   const ConfigNode pc = root.Child("passivity");
   c.passivity.max_damping_ns_per_m = pc.PositiveNumber("max_damping_ns_per_m");
   c.passivity.max_damping_nms_per_rad = pc.PositiveNumber("max_damping_nms_per_rad");
-  c.mapping_scale = root.Child("mapping").PositiveNumber("scale");
+  // The HC -> RSR scale's one place is transfer.yaml (the frame map the set-points use); a copy here could
+  // disagree with it silently, as haptics.yaml's old `mapping.scale` did with R_FO.
+  if (root.Has("mapping")) {
+    root.Fail("mapping", "this section moved to transfer.yaml 'mapping' (translation_scale, rotation_scale, "
+                         "rsr_from_hc_rpy_deg: the one HC -> RSR map of the walls and the set-points); remove it here");
+  }
   const ConfigNode hand = root.Child("hand");
   c.hand.mass_kg = hand.PositiveNumber("mass_kg");
   c.hand.stiffness_n_per_m = hand.PositiveNumber("stiffness_n_per_m");

@@ -26,7 +26,6 @@ struct HapticsConfig {
   PointCloudParams cloud;
   ProxyParams proxy;
   PassivityParams passivity;       // enabled per method by the factory
-  double mapping_scale = 1.0;
   HandParams hand;
   double strike_hand_stiffness_n_per_m = 1200;
   DeviceSimParams device;

@@ -45,7 +45,7 @@ HandScript ReplayScript(const std::string& file, const robot::Sigma7Model& sigma
   HcToRsrMap place;
   place.X_OH_anchor.translation() = sigma7.p_center_O();
   place.X_FM_anchor = e.X_FM_start;
-  place.scale = o.replay_scale;
+  place.frame.translation_scale = o.replay_scale;
   HandScript s;
   s.name = recording.name;
   s.duration_s = e.duration_s;

@@ -26,7 +26,8 @@ struct DeviceScriptOptions {
   double sim_frequency_hz = 0.25;
   double sim_yaw_amplitude_rad = 0.35;
   // replay: the recording's first pose is where the device centre maps to (the RSR pose at the clutch), with this
-  // scale between RSR and hand motion (haptics.yaml mapping_scale).
+  // scale between RSR and hand motion (the sessions set transfer.yaml mapping.translation_scale). The recording is
+  // placed with R_FO = identity: a rotated mapping turns the replayed path in F by R_FO.
   double replay_scale = 1.0;
 };
 

@@ -18,15 +18,15 @@ const char* ToString(HapticStatus status) {
 
 Eigen::Isometry3d HcToRsrMap::ToRsr(const Eigen::Isometry3d& X_OH) const noexcept {
   Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();
-  X_FM.translation() = X_FM_anchor.translation() + scale * (X_OH.translation() - X_OH_anchor.translation());
-  X_FM.linear() = X_OH.linear() * X_OH_anchor.linear().transpose() * X_FM_anchor.linear();
+  X_FM.translation() = X_FM_anchor.translation() + frame.LinearToRsr(X_OH.translation() - X_OH_anchor.translation());
+  X_FM.linear() = frame.RotationToRsr(X_OH.linear() * X_OH_anchor.linear().transpose()) * X_FM_anchor.linear();
   return X_FM;
 }
 
 Eigen::Isometry3d HcToRsrMap::ToHc(const Eigen::Isometry3d& X_FM) const noexcept {
   Eigen::Isometry3d X_OH = Eigen::Isometry3d::Identity();
-  X_OH.translation() = X_OH_anchor.translation() + (X_FM.translation() - X_FM_anchor.translation()) / scale;
-  X_OH.linear() = X_FM.linear() * X_FM_anchor.linear().transpose() * X_OH_anchor.linear();
+  X_OH.translation() = X_OH_anchor.translation() + frame.LinearToHc(X_FM.translation() - X_FM_anchor.translation());
+  X_OH.linear() = frame.RotationToHc(X_FM.linear() * X_FM_anchor.linear().transpose()) * X_OH_anchor.linear();
   return X_OH;
 }
 
@@ -42,9 +42,14 @@ bool SaturateNorm(Eigen::Vector3d& v, double max_norm) noexcept {
 HapticRenderer::HapticRenderer(const robot::RsrModel& model, const HcToRsrMap& map, const WrenchLimits& limits,
                                double rate_hz)
     : model_(model), map_(map), limits_(limits), dt_(1.0 / rate_hz) {
-  if (!(rate_hz > 0) || !(map.scale > 0) || !(limits.max_force_n > 0) || !(limits.max_torque_nm > 0)) {
-    throw std::invalid_argument("haptic renderer: rate_hz, mapping scale and wrench caps must be positive (rate " +
-                                std::to_string(rate_hz) + " Hz, scale " + std::to_string(map.scale) + ")");
+  if (!(rate_hz > 0) || !(limits.max_force_n > 0) || !(limits.max_torque_nm > 0)) {
+    throw std::invalid_argument("haptic renderer: rate_hz and wrench caps must be positive (rate " +
+                                std::to_string(rate_hz) + " Hz)");
+  }
+  try {
+    map.frame.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("haptic renderer: HC -> RSR frame map: ") + e.what());
   }
 }
 
@@ -79,50 +84,53 @@ HapticStatus HapticRenderer::Tick(const HapticInput& input, HapticOutput& output
     output.status = HapticStatus::kFault;
     return output.status;
   }
-  RsrSideState state;
-  state.X_FM = map_.ToRsr(input.X_OH);
-  // Axes of O and F are aligned (HcToRsrMap), so velocities only scale.
-  state.v_F = map_.scale * input.v_O;
-  state.w_F = input.w_O;
-  return RenderState(state, input, output);
+  return RenderState(map_.ToRsr(input.X_OH), input, output);
 }
 
-HapticStatus HapticRenderer::TickRsr(const RsrSideState& state, const HapticInput& input,
+HapticStatus HapticRenderer::TickRsr(const Eigen::Isometry3d& X_FM, const HapticInput& input,
                                      HapticOutput& output) noexcept {
   output.f_O.setZero();
   output.tau_O.setZero();
   output.saturated = false;
-  if (!state.X_FM.matrix().allFinite() || !state.v_F.allFinite() || !state.w_F.allFinite() ||
-      !input.v_O.allFinite() || !input.w_O.allFinite()) {
+  if (!X_FM.matrix().allFinite() || !input.v_O.allFinite() || !input.w_O.allFinite()) {
     output.status = HapticStatus::kFault;
     return output.status;
   }
-  return RenderState(state, input, output);
+  return RenderState(X_FM, input, output);
 }
 
-HapticStatus HapticRenderer::RenderState(const RsrSideState& state, const HapticInput& input,
+HapticStatus HapticRenderer::RenderState(const Eigen::Isometry3d& X_FM, const HapticInput& input,
                                          HapticOutput& output) noexcept {
+  // The hand's state in RSR space: the pose given, the velocities through the same frame map as the pose.
+  RsrSideState state;
+  state.X_FM = X_FM;
+  state.v_F = map_.frame.LinearToRsr(input.v_O);
+  state.w_F = map_.frame.AngularToRsr(input.w_O);
   Eigen::Vector3d f_F, tau_F;
   HapticStatus status = Render(state, f_F, tau_F);
   if (!f_F.allFinite() || !tau_F.allFinite()) {
     output.status = HapticStatus::kFault;
     return output.status;
   }
-  // The wall is felt at the HC unscaled: the force on the hand equals the wall force in RSR space.
+  // The wall is felt at the HC unscaled: the force on the hand is the wall force in RSR space, rotated into O.
+  // The caps are on norms, which the rotation keeps.
   output.saturated = SaturateNorm(f_F, limits_.max_force_n);
   output.saturated = SaturateNorm(tau_F, limits_.max_torque_nm) || output.saturated;
+  Eigen::Vector3d f_O = map_.frame.WrenchToHc(f_F);
+  Eigen::Vector3d tau_O = map_.frame.WrenchToHc(tau_F);
+  // The passivity ports work in O: the power into the hand is the displayed force times the hand's own velocity.
   if (passivity_.enabled) {
     if (status == HapticStatus::kFree) {
       energy_force_j_ = 0;
       energy_torque_j_ = 0;
     } else {
-      PassivityPort(f_F, input.v_O, dt_, passivity_.max_damping_ns_per_m, limits_.max_force_n, energy_force_j_);
-      PassivityPort(tau_F, input.w_O, dt_, passivity_.max_damping_nms_per_rad, limits_.max_torque_nm,
+      PassivityPort(f_O, input.v_O, dt_, passivity_.max_damping_ns_per_m, limits_.max_force_n, energy_force_j_);
+      PassivityPort(tau_O, input.w_O, dt_, passivity_.max_damping_nms_per_rad, limits_.max_torque_nm,
                     energy_torque_j_);
     }
   }
-  output.f_O = f_F;
-  output.tau_O = tau_F;
+  output.f_O = f_O;
+  output.tau_O = tau_O;
   output.status = status;
   return status;
 }

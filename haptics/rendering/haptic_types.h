@@ -4,14 +4,15 @@
 // allocation-free (tests/haptics/rendering_rt_test.cc proves it with AllocationCounter).
 //
 // Frames: O is the HC base (sigma.7), H the HC handle; F is the RSR fixed ring, M its moving ring. The HC pose is
-// mapped to a commanded RSR pose X_FM by HcToRsrMap (the incremental mapping of eq. 10 with a constant scale); the
-// walls live in RSR space; forces are returned in O.
+// mapped to a commanded RSR pose X_FM by HcToRsrMap (eq. 10 with the nominal scales, through the one HC → RSR frame
+// map of transfer.yaml); the walls live in RSR space; forces are rotated back and returned in O.
 
 #include <cstdint>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "haptics/transfer/hc_to_rsr_frame.h"
 #include "robot/rsr_model.h"
 
 namespace robossis::haptics {
@@ -38,14 +39,15 @@ struct HapticOutput {
   bool saturated = false;  // the force or torque cap was reached this tick
 };
 
-// HC → RSR pose (eq. 10 with a constant scale S and the clutch taken at the anchor poses). Assumption (the paper does
-// not say): the HC base axes are aligned with the RSR fixed-ring axes, so the mapping is a pure offset in position
-// and a relative rotation in orientation.
-//   p_FM = p_FM_anchor + scale · (p_OH − p_OH_anchor),   R_FM = (R_OH · R_OH_anchorᵀ) · R_FM_anchor
+// HC → RSR pose: eq. 10 summed from the anchor poses (the clutch) with the nominal scales, through the one frame
+// map (R_FO and the scales: transfer.yaml `mapping`, hc_to_rsr_frame.h). The dynamic scaling of eq. 11 is the
+// incremental mapping's (transfer::IncrementalMapper); this is the map the walls place the hand with.
+//   p_FM = p_FM_anchor + s_t · R_FO · (p_OH − p_OH_anchor),   R_FM = frame(R_OH · R_OH_anchorᵀ) · R_FM_anchor
+// where frame(dR) = R_FO · dR · R_FOᵀ at s_r = 1 (the rotation increment of the handle, in O, seen in F).
 struct HcToRsrMap {
   Eigen::Isometry3d X_FM_anchor = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d X_OH_anchor = Eigen::Isometry3d::Identity();
-  double scale = 1.0;
+  transfer::HcToRsrFrame frame;
 
   Eigen::Isometry3d ToRsr(const Eigen::Isometry3d& X_OH) const noexcept;
   Eigen::Isometry3d ToHc(const Eigen::Isometry3d& X_FM) const noexcept;
@@ -85,11 +87,11 @@ class HapticRenderer {
   // One haptic tick. Maps the HC state to RSR space, renders, saturates (keeping the direction) and returns the
   // status. A non-finite input or result gives zero force and kFault. Allocation-free, lock-free, noexcept.
   HapticStatus Tick(const HapticInput& input, HapticOutput& output) noexcept;
-  // One haptic tick at an RSR-side state given directly (the teleoperation leader maps the hand once, with the
-  // motion transfer of eq. 10–12, and renders the walls at the pose the follower will be sent). `input` is the HC
-  // sample the state came from: its velocities drive the passivity observer. The wrench is returned in F (the
-  // caller rotates it into O). Same checks, saturation and status as Tick(). Allocation-free, noexcept.
-  HapticStatus TickRsr(const RsrSideState& state, const HapticInput& input, HapticOutput& output) noexcept;
+  // One haptic tick at an RSR pose given directly (the teleoperation leader maps the hand once, with the motion
+  // transfer of eq. 10–12, and renders the walls at the pose the follower will be sent). `input` is the HC sample
+  // the pose came from: its velocities reach F through the map's frame, as in Tick(), and drive the passivity
+  // observer. The wrench is returned in O, as by Tick(). Same checks, saturation and status. Allocation-free.
+  HapticStatus TickRsr(const Eigen::Isometry3d& X_FM, const HapticInput& input, HapticOutput& output) noexcept;
 
   // Forget the history (filters, proxy, passivity observer) and start from the HC pose X_OH. Allocation-free.
   void Reset(const Eigen::Isometry3d& X_OH) noexcept;
@@ -98,7 +100,8 @@ class HapticRenderer {
   // where the robot is sent while the hand is beyond a wall. nullptr for methods without one.
   virtual const Eigen::Isometry3d* constrained_pose() const noexcept { return nullptr; }
 
-  // Re-clutch: a new HC → RSR mapping (outside the tick; call Reset afterwards).
+  // Re-clutch: new anchors, or the frame map (outside the tick; call Reset afterwards). The frame must be valid
+  // (transfer::HcToRsrFrame::Validate, as the constructor checks).
   void SetMap(const HcToRsrMap& map) noexcept { map_ = map; }
   void SetPassivity(const PassivityParams& params) noexcept { passivity_ = params; }
   const PassivityParams& passivity() const { return passivity_; }
@@ -120,8 +123,8 @@ class HapticRenderer {
   // The method proper: the wrench in RSR space (F), before the common saturation.
   virtual HapticStatus Render(const RsrSideState& state, Eigen::Vector3d& f_F, Eigen::Vector3d& tau_F) noexcept = 0;
   virtual void ResetMethod(const Eigen::Isometry3d& X_OH) noexcept = 0;
-  // Render, check, saturate and apply the passivity controller (the common part of Tick and TickRsr).
-  HapticStatus RenderState(const RsrSideState& state, const HapticInput& input, HapticOutput& output) noexcept;
+  // Render, check, saturate, rotate into O and apply the passivity controller (the common part of Tick and TickRsr).
+  HapticStatus RenderState(const Eigen::Isometry3d& X_FM, const HapticInput& input, HapticOutput& output) noexcept;
 
   const robot::RsrModel& model_;
   HcToRsrMap map_;

@@ -62,7 +62,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
   run.method = method;
   const double dt = 1.0 / settings.rate_hz;
   HcToRsrMap map;
-  map.scale = config.mapping_scale;
+  map.frame = settings.frame;
   map.X_OH_anchor = Eigen::Isometry3d::Identity();
   map.X_OH_anchor.translation() = sigma7.p_center_O();
   std::unique_ptr<HapticRenderer> renderer = MakeRenderer(method, config, rsr, map, settings.rate_hz, std::move(atlas));
@@ -149,8 +149,12 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
           w_f = mesh_proxy->last_force_damping_weight();
           w_tau = mesh_proxy->last_torque_damping_weight();
         }
-        const Eigen::Vector3d f_wall = output.f_O + w_f * config.wall.c_f_ns_per_m * input.v_O;
-        const Eigen::Vector3d tau_wall = output.tau_O + w_tau * config.wall.c_tau_nms_per_rad * input.w_O;
+        // In F, where the walls and their normals are: the displayed wrench rotated back, the damper on the
+        // hand's velocity mapped as the renderer maps it.
+        const Eigen::Vector3d f_wall = map.frame.WrenchToRsr(output.f_O) +
+                                       w_f * config.wall.c_f_ns_per_m * map.frame.LinearToRsr(input.v_O);
+        const Eigen::Vector3d tau_wall = map.frame.WrenchToRsr(output.tau_O) +
+                                         w_tau * config.wall.c_tau_nms_per_rad * map.frame.AngularToRsr(input.w_O);
         if (f_wall.norm() > kDirectionForceThresholdN) {
           rec.force_direction_error_deg = AngleDeg(f_wall, InwardNormalTranslation(rsr, X_FM));
           if (rec.force_direction_error_deg >= 0) {

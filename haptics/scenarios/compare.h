@@ -85,6 +85,8 @@ struct MethodRun {
 
 struct CompareSettings {
   double rate_hz = 1000;
+  // The one HC -> RSR frame map (transfer.yaml `mapping`): the hand is placed and the walls are seen through it.
+  transfer::HcToRsrFrame frame;
   bool keep_trace = true;
   int trace_decimation = 1;  // keep every n-th tick in the trace (metrics always use every tick)
 };

@@ -48,9 +48,9 @@ SampleVerdict IncrementalMapper::Push(const HcSample& sample, MappingIncrement& 
   const Eigen::Vector3d dphi_O = RotationVector(dR_O);
   last_ = sample;
 
-  // Frame mapping O → F and the nominal scaling.
-  const Eigen::Vector3d dp_F = mapping_.translation_scale * (mapping_.R_FO * dp_O);
-  const Eigen::Vector3d dphi_F = mapping_.rotation_scale * (mapping_.R_FO * dphi_O);
+  // Frame mapping O → F and the nominal scaling: the one HC → RSR frame map the walls use too.
+  const Eigen::Vector3d dp_F = mapping_.frame().LinearToRsr(dp_O);
+  const Eigen::Vector3d dphi_F = mapping_.frame().AngularToRsr(dphi_O);
 
   // eq. 11, as a cap: S = min(1, Max / |v|), on the norm of the (mapped) hand velocity.
   increment.hc_speed_m_s = dp_F.norm() / gap_s;

@@ -54,20 +54,17 @@ void TransferConfig::Validate() const {
           "an integer multiple of transfer_rate_hz", rates.actuation_rate_hz);
   CheckLinearSpeedCap(caps.max_linear_speed_m_s, "transfer config: 'caps.max_linear_speed_mm_s'");
   CheckAngularSpeedCap(caps.max_angular_speed_rad_s, "transfer config: 'caps.max_angular_speed_deg_s'");
-  Require(std::isfinite(mapping.translation_scale) && mapping.translation_scale > 0, "mapping.translation_scale",
-          "a positive factor", mapping.translation_scale);
-  Require(std::isfinite(mapping.rotation_scale) && mapping.rotation_scale > 0, "mapping.rotation_scale",
-          "a positive factor", mapping.rotation_scale);
+  try {
+    mapping.frame().Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("transfer config: ") + e.what());
+  }
   Require(mapping.cap_headroom > 0 && mapping.cap_headroom <= 1, "mapping.cap_headroom", "a value in (0, 1]",
           mapping.cap_headroom);
   Require(std::isfinite(mapping.max_backlog_s) && mapping.max_backlog_s >= 0, "mapping.max_backlog_s",
           "a non-negative duration", mapping.max_backlog_s);
   Require(std::isfinite(mapping.max_prediction_s) && mapping.max_prediction_s >= 0, "mapping.max_prediction_s",
           "a non-negative duration", mapping.max_prediction_s);
-  const Eigen::Matrix3d RtR = mapping.R_FO.transpose() * mapping.R_FO;
-  Require(mapping.R_FO.allFinite() && (RtR - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
-              mapping.R_FO.determinant() > 0,
-          "mapping.rsr_from_hc_rpy_deg", "a proper rotation", mapping.R_FO.determinant());
   Require(filter.moving_average_window >= 1 && filter.moving_average_window <= kMaxMovingAverageWindow,
           "filter.moving_average_window", "an integer in [1, 1024]", filter.moving_average_window);
   Require(std::isfinite(filter.kalman_jerk_psd) && filter.kalman_jerk_psd > 0, "filter.kalman_jerk_psd",

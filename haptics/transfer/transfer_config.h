@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include "haptics/transfer/hc_to_rsr_frame.h"
+
 namespace robossis {
 class ConfigNode;
 }  // namespace robossis
@@ -61,12 +63,9 @@ inline SpeedCaps ClinicalSpeedCaps() {
   return caps;
 }
 
-// Incremental mapping (eq. 10–11) and input hygiene.
-struct MappingConfig {
-  // Rotation taking HC-base directions into RSR fixed-frame directions (R_FO). [assumed] identity.
-  Eigen::Matrix3d R_FO = Eigen::Matrix3d::Identity();
-  double translation_scale = 1.0;  // [assumed] nominal motion scaling before the dynamic scaling of eq. 11
-  double rotation_scale = 1.0;     // [assumed]
+// Incremental mapping (eq. 10–11) and input hygiene. The frame part (R_FO and the nominal scales) is the one HC → RSR
+// frame map the walls use too (hc_to_rsr_frame.h); this section of transfer.yaml is its only source.
+struct MappingConfig : HcToRsrFrame {
   // [assumed] The mapping scales increments to this fraction of the caps, leaving the final guard headroom so
   // that it rarely has to saturate (it still guarantees the caps on its own).
   double cap_headroom = 0.95;
@@ -77,6 +76,8 @@ struct MappingConfig {
   // measurement for at most this long, so a short gap does not brake the RSR; after it, the held target is measured
   // again and the RSR comes to rest.
   double max_prediction_s = 0.0;
+
+  const HcToRsrFrame& frame() const noexcept { return *this; }
 };
 
 // The 10 kHz chain: moving average, Kalman filter (eq. 12), cap guard.

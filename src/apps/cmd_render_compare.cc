@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "haptics/rendering/renderer_factory.h"
+#include "haptics/transfer/transfer_config.h"
 #include "src/core/units.h"
 #include "src/apps/plotting.h"
 #include "src/apps/render_compare.h"
@@ -55,6 +56,8 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   }
   haptics::CompareSettings settings;
   settings.rate_hz = request.rate_hz;
+  // The hand is placed through the one HC -> RSR frame map, transfer.yaml's, as the teleoperation places it.
+  settings.frame = transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml")).mapping.frame();
   settings.trace_decimation = std::max(1, request.trace_decimation);
   std::string traces, labels;
   for (const std::string& method : request.methods) {

@@ -111,9 +111,9 @@ bool LocalSessionBackend::ReadHandWrench(HandWrench& wrench) noexcept {
   teleop::LeaderTickRecord record;
   if (!haptic_granted_ || !ReadLeaderRecord(record)) return true;
   // The force the device displays (device base O) in the fixed frame F, as the view draws it.
-  const Eigen::Matrix3d& R_FO = haptic_setup_->transfer.mapping.R_FO;
-  const Eigen::Vector3d f = R_FO * Eigen::Vector3d(record.f_O[0], record.f_O[1], record.f_O[2]);
-  const Eigen::Vector3d tau = R_FO * Eigen::Vector3d(record.tau_O[0], record.tau_O[1], record.tau_O[2]);
+  const transfer::HcToRsrFrame& frame = haptic_setup_->transfer.mapping.frame();
+  const Eigen::Vector3d f = frame.WrenchToRsr(Eigen::Vector3d(record.f_O[0], record.f_O[1], record.f_O[2]));
+  const Eigen::Vector3d tau = frame.WrenchToRsr(Eigen::Vector3d(record.tau_O[0], record.tau_O[1], record.tau_O[2]));
   for (int i = 0; i < 3; ++i) {
     wrench.force_n[i] = f[i];
     wrench.torque_nm[i] = tau[i];

@@ -67,8 +67,7 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       link_(link),
       guard_(model, config.guard),
       transfer_(transfer, X_FM_start),
-      R_FO_(transfer.mapping.R_FO),
-      translation_scale_(transfer.mapping.translation_scale),
+      frame_(transfer.mapping.frame()),
       transfer_every_(static_cast<int>(std::lround(config.rate_hz / transfer.rates.transfer_rate_hz))),
       setpoint_period_s_(1.0 / transfer.rates.transfer_rate_hz),
       actuation_ratio_(transfer.rates.upsampling_ratio()),
@@ -94,6 +93,16 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
     throw std::invalid_argument("leader: the follower's start pose is outside the workspace");
   }
   follower_.state = OperatingState::kDisabled;
+  // The walls map the hand's velocities and rotate their wrench back with the transfer's frame map, whatever map
+  // the renderer was built with: one mapping for the set-points and the walls.
+  try {
+    frame_.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("leader: transfer ") + e.what());
+  }
+  haptics::HcToRsrMap map = renderer.map();
+  map.frame = frame_;
+  renderer.SetMap(map);
 }
 
 Eigen::Isometry3d LeaderUnit::OnTheWire(const Eigen::Isometry3d& X) noexcept {
@@ -126,7 +135,7 @@ void LeaderUnit::AnchorWalls(const Eigen::Isometry3d& X_OH) noexcept {
   haptics::HcToRsrMap map;
   map.X_OH_anchor = X_OH;
   map.X_FM_anchor = X_sent_;
-  map.scale = translation_scale_;
+  map.frame = frame_;
   renderer_.SetMap(map);
   renderer_.Reset(X_OH);
 }
@@ -252,24 +261,21 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     X_goal_ = transfer_.set_point().X_FM;
   }
 
-  // Rendering at that pose, the hand's velocity mapped into F.
+  // Rendering at that pose; the renderer maps the hand's velocities into F and its wrench back into O through the
+  // frame map set above.
   haptics::HapticOutput out;
   if (started_) {
     haptics::HapticInput in;
     in.X_OH = s.X_OH;
     in.v_O = s.v_O;
     in.w_O = s.w_O;
-    haptics::RsrSideState rs;
-    rs.X_FM = X_goal_;
-    rs.v_F = translation_scale_ * (R_FO_ * s.v_O);
-    rs.w_F = R_FO_ * s.w_O;
-    renderer_.TickRsr(rs, in, out);
+    renderer_.TickRsr(X_goal_, in, out);
     if (out.status == haptics::HapticStatus::kFault && s.ok()) ++counters_.nonfinite_outputs;
   }
   haptics::DeviceCommand command;
   if (tracking) {
-    command.f_O = R_FO_.transpose() * out.f_O;
-    command.tau_O = R_FO_.transpose() * out.tau_O;
+    command.f_O = out.f_O;
+    command.tau_O = out.tau_O;
   }
   const haptics::DeviceWriteReport written = device_.Write(command);
   const Eigen::Vector3d f_sent =

@@ -157,8 +157,7 @@ class LeaderUnit final : public rt::PeriodicTask {
   LeaderLink& link_;
   robot::FeasibleMotionGuard guard_;
   transfer::MotionTransfer transfer_;
-  Eigen::Matrix3d R_FO_;
-  double translation_scale_;
+  transfer::HcToRsrFrame frame_;  // the one HC -> RSR frame map (transfer.yaml mapping), the walls' too
   int transfer_every_;
   double setpoint_period_s_;  // one transfer period: the interval between two set-points
   SetPointLimits follower_limits_;  // the transfer's speed caps, the follower's acceleration caps

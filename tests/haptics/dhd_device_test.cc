@@ -191,7 +191,6 @@ TEST_F(DhdDeviceTest, ClosedLoopThroughTheWallsStopsTheHandAtTheBoundary) {
   HcToRsrMap map;
   map.X_FM_anchor = testing::Translated(testing::Home(), (reach - 0.005) * axis);
   map.X_OH_anchor.translation() = Centre();
-  map.scale = 1.0;
   auto renderer = MakeRenderer("proxy", testing::Config(), testing::Rsr(), map, 1.0 / kTick);
   renderer->Reset(map.X_OH_anchor);
 
