@@ -38,14 +38,14 @@ HandScript CircleScript(const robot::Sigma7Model& sigma7, const DeviceScriptOpti
 
 HandScript ReplayScript(const std::string& file, const robot::Sigma7Model& sigma7, const HapticsConfig& haptics,
                         const DeviceScriptOptions& o) {
-  if (!(o.replay_scale > 0)) throw std::invalid_argument("device replay: replay_scale must be positive");
+  o.replay_frame.Validate();
   const Scenario recording = LoadTrajectoryCsv(file, haptics.hand);
   const Episode& e = recording.episodes.front();
   // Where the recorded RSR poses put the hand: the recording's first pose at the device centre.
   HcToRsrMap place;
   place.X_OH_anchor.translation() = sigma7.p_center_O();
   place.X_FM_anchor = e.X_FM_start;
-  place.frame.translation_scale = o.replay_scale;
+  place.frame = o.replay_frame;
   HandScript s;
   s.name = recording.name;
   s.duration_s = e.duration_s;

@@ -16,6 +16,7 @@
 
 #include "haptics/device/haptic_device.h"
 #include "haptics/haptics_config.h"
+#include "haptics/transfer/hc_to_rsr_frame.h"
 #include "robot/sigma7_model.h"
 
 namespace robossis::haptics {
@@ -25,10 +26,10 @@ struct DeviceScriptOptions {
   double sim_radius_m = 0.03;
   double sim_frequency_hz = 0.25;
   double sim_yaw_amplitude_rad = 0.35;
-  // replay: the recording's first pose is where the device centre maps to (the RSR pose at the clutch), with this
-  // scale between RSR and hand motion (the sessions set transfer.yaml mapping.translation_scale). The recording is
-  // placed with R_FO = identity: a rotated mapping turns the replayed path in F by R_FO.
-  double replay_scale = 1.0;
+  // replay: the recording's first pose is where the device centre maps to (the RSR pose at the clutch), through
+  // the hand-to-robot frame map the session uses (transfer.yaml `mapping`), so that the path replayed in F is the
+  // path recorded, whatever R_FO and the scales.
+  transfer::HcToRsrFrame replay_frame;
 };
 
 std::vector<std::string> KnownDevices();  // "sim", "replay:FILE.csv", "dhd[:KEY=VALUE,...]"

@@ -54,7 +54,7 @@ void LocalSessionBackend::AttachHapticLeader(HapticLeaderSetup setup) {
   setup.leader.rate_hz = 1.0 / setpoint_period_s_;  // the panel's leader side runs at the link's rate
   setup.leader.Validate();
   haptics::DeviceScriptOptions script = setup.leader.sim_script;
-  script.replay_scale = setup.transfer.mapping.translation_scale;  // as `robossis teleop` places a replay
+  script.replay_frame = setup.transfer.mapping;  // as `robossis teleop` places a replay
   std::unique_ptr<haptics::HapticDevice> device =
       haptics::MakeDevice(setup.device, *setup.sigma7, setup.haptics, setup.leader.device, script);
   if (device->EnableForces(true) != haptics::DeviceStatus::kOk)

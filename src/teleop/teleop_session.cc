@@ -109,7 +109,7 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
   const robot::RsrModel& rsr = *setup.rsr;
   LeaderSide side;
   haptics::DeviceScriptOptions script = config.sim_script;
-  script.replay_scale = setup.transfer.mapping.translation_scale;
+  script.replay_frame = setup.transfer.mapping;
   side.device = haptics::MakeDevice(request.device, *setup.sigma7, setup.haptics, config.device, script);
   if (side.device->EnableForces(true) != haptics::DeviceStatus::kOk) {
     throw std::runtime_error("--device " + request.device + ": the device refused to enable its forces");

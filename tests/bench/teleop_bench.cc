@@ -92,7 +92,7 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
     LeaderConfig leader_config = setup.leader;
     leader_config.rate_hz = 1000;
     haptics::DeviceScriptOptions script = leader_config.sim_script;
-    script.replay_scale = setup.transfer.mapping.translation_scale;
+    script.replay_frame = setup.transfer.mapping;
     auto device = haptics::MakeDevice("sim", *setup.sigma7, setup.haptics, leader_config.device, script);
     device->EnableForces(true);
     auto renderer = haptics::MakeRenderer("proxy-safe", setup.haptics, rsr, haptics::HcToRsrMap{}, 1000, nullptr,

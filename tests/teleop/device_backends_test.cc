@@ -74,7 +74,24 @@ TEST(DeviceBackendsTest, ReplayFollowsTheRecordingAndEndsWithEndOfScript) {
   EXPECT_EQ(end.status, DeviceStatus::kEndOfScript);
   EXPECT_FALSE(end.presence());
   const double moved = end.X_OH.translation().x() - start.X_OH.translation().x();
-  EXPECT_NEAR(moved, 0.020 / o.replay_scale, 0.002);
+  EXPECT_NEAR(moved, 0.020 / o.replay_frame.translation_scale, 0.002);
+  std::filesystem::remove(file);
+}
+
+TEST(DeviceBackendsTest, AReplayIsPlacedThroughTheSessionsFrameMap) {
+  // The same 20 mm along +x of F, with the HC base turned 90° about z from F and a scale of 2: the hand must move
+  // R_FOᵀ · (+x) · 20 mm / 2 = 10 mm along −y of O, so that the set-points replay the recorded path in F.
+  const auto file = WriteCsv("robossis_replay_frame_test.csv", "0,0,0,200,0,0,0\n0.5,20,0,200,0,0,0\n");
+  DeviceScriptOptions o;
+  o.replay_frame.R_FO = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  o.replay_frame.translation_scale = 2.0;
+  auto dev = MakeDevice("replay:" + file.string(), Sigma7(), Haptics(), DeviceLimits{}, o);
+  double t = 0;
+  const DeviceState start = RunDevice(*dev, t, 0.001);
+  const DeviceState end = RunDevice(*dev, t, 1.0);
+  const Eigen::Vector3d moved = end.X_OH.translation() - start.X_OH.translation();
+  EXPECT_NEAR(moved.y(), -0.010, 0.001);
+  EXPECT_NEAR(moved.x(), 0.0, 0.001) << "placed without R_FO, the hand would move along +x";
   std::filesystem::remove(file);
 }
 
