@@ -75,7 +75,22 @@ void PanelController::PreviewJog() {
 
 void PanelController::GoJog() {
   last_verdict_ = backend_.StartJog(CurrentJogRequest());  // previewed again by the backend before it starts
+  last_started_jog_ = last_verdict_;
   message_ = last_verdict_->accepted ? "" : "refused: " + last_verdict_->reason;
+}
+
+bool PanelController::ScriptConditionHolds(const ScriptAction& wait) const {
+  if (wait.target == "state") return view_.has_status && view_.state_name == wait.value;
+  if (wait.target != "jog.done") throw std::invalid_argument("wait: unknown condition '" + wait.target + "'");
+  if (!view_.has_status || !last_started_jog_ || !last_started_jog_->accepted) return false;
+  const Eigen::Isometry3d& end = last_started_jog_->X_FM_end;
+  const auto apart = [&](const Eigen::Isometry3d& X, double position_m, double angle_rad) {
+    return (X.translation() - end.translation()).norm() > position_m ||
+           Eigen::AngleAxisd(end.linear().transpose() * X.linear()).angle() > angle_rad;
+  };
+  // The player's last set-point is the end pose itself (eq. 9 at its duration); 1 um, 1 urad for rounding.
+  if (apart(X_FM_commanded_, 1e-6, 1e-6)) return false;
+  return !apart(view_.X_FM, kJogDonePositionM, kJogDoneAngleRad);
 }
 
 void PanelController::StopJog() { backend_.StopJog(); }

@@ -53,6 +53,15 @@ class PanelController {
   void Click(const std::string& button);
   void Set(const std::string& field, const std::string& value);
 
+  // A script's `wait` condition (script.h) on the view of the last Update(): "state" with a state's name, or
+  // "jog.done": the last jog started with GoJog was accepted, its last set-point is commanded (the player reached
+  // its end) and the measured pose is within kJogDonePositionM and kJogDoneAngleRad of it. Throws
+  // std::invalid_argument naming an unknown condition.
+  bool ScriptConditionHolds(const ScriptAction& wait) const;
+  // The robot is at a jog's end: a step of a stroke motor is 5 um (actuation.yaml), so the drives can get there.
+  static constexpr double kJogDonePositionM = 1e-5;
+  static constexpr double kJogDoneAngleRad = 0.01 * 3.14159265358979323846 / 180;
+
   JogRequest CurrentJogRequest() const;  // the form in SI
   void PreviewJog();
   void GoJog();
@@ -94,6 +103,7 @@ class PanelController {
   HandWrench wrench_;
   Eigen::Isometry3d X_FM_commanded_ = Eigen::Isometry3d::Identity();
   std::optional<JogVerdict> last_verdict_;
+  std::optional<JogVerdict> last_started_jog_;  // GoJog's, not the preview's
   std::string message_;
   std::string last_fault_;
   int estops_sent_ = 0;
