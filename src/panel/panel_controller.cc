@@ -35,6 +35,14 @@ void PanelController::Update(double now_s) {
   if (backend_.ReadStatus(status)) {
     view_ = BuildViewModel(model_, status);
     if (!view_.fault_text.empty()) last_fault_ = view_.fault_text;
+    // Moved: by more than 1 um or 1 urad, far below a motor step (5 um, 0.3 mrad), above a simulation's noise.
+    bool moved = false;
+    for (std::size_t i = 0; i < status.joints.size(); ++i) moved |= std::abs(status.joints[i] - still_joints_[i]) > 1e-6;
+    if (moved) {
+      still_joints_ = status.joints;
+      still_since_ns_ = status.stamp_ns;
+    }
+    status_stamp_ns_ = status.stamp_ns;
   }
   backend_.ReadHealth(health_);
   backend_.ReadHandWrench(wrench_);
@@ -90,7 +98,8 @@ bool PanelController::ScriptConditionHolds(const ScriptAction& wait) const {
   };
   // The player's last set-point is the end pose itself (eq. 9 at its duration); 1 um, 1 urad for rounding.
   if (apart(X_FM_commanded_, 1e-6, 1e-6)) return false;
-  return !apart(view_.X_FM, kJogDonePositionM, kJogDoneAngleRad);
+  if (apart(view_.X_FM, kJogDonePositionM, kJogDoneAngleRad)) return false;
+  return 1e-9 * static_cast<double>(status_stamp_ns_ - still_since_ns_) >= kJogDoneStillS;
 }
 
 void PanelController::StopJog() { backend_.StopJog(); }

@@ -168,6 +168,9 @@ TEST_F(LocalSessionBackendTest, ScriptWaitsHoldUntilTheStateAndTheJogsEnd) {
     Run(0.001);
     controller.Update(0);
     if (!controller.ScriptConditionHolds(done)) continue;
+    Run(0.001);  // done is done: the robot stays where it is
+    controller.Update(0);
+    EXPECT_TRUE(controller.ScriptConditionHolds(done));
     EXPECT_NEAR(controller.view().X_FM.translation().z(), end_z, PanelController::kJogDonePositionM);
     EXPECT_NEAR((controller.commanded_pose().translation() - controller.last_verdict()->X_FM_end.translation()).norm(),
                 0, 1e-6);
