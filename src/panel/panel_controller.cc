@@ -37,7 +37,8 @@ void PanelController::Update(double now_s) {
     if (!view_.fault_text.empty()) last_fault_ = view_.fault_text;
     // Moved: by more than 1 um or 1 urad, far below a motor step (5 um, 0.3 mrad), above a simulation's noise.
     bool moved = false;
-    for (std::size_t i = 0; i < status.joints.size(); ++i) moved |= std::abs(status.joints[i] - still_joints_[i]) > 1e-6;
+    for (std::size_t i = 0; i < status.joints.size(); ++i)
+      moved |= std::abs(status.joints[i] - still_joints_[i]) > 1e-6;
     if (moved) {
       still_joints_ = status.joints;
       still_since_ns_ = status.stamp_ns;

@@ -12,8 +12,8 @@
 //
 // `wait` makes a script independent of the machine's speed: `wait state NAME [TIMEOUT_S]` (the follower's state, as
 // the panel shows it: disabled, homing, ready, enabled, clutched, fault, estop) and `wait jog.done [TIMEOUT_S]` (the
-// last jog played to its end and the robot there, still: PanelController::ScriptConditionHolds). The script's clock stops
-// while it waits: the times of the actions after a wait count from the moment it was satisfied.
+// last jog played to its end and the robot there, still: PanelController::ScriptConditionHolds). The script's clock
+// stops while it waits: the times of the actions after a wait count from the moment it was satisfied.
 
 #include <algorithm>
 #include <cstddef>
