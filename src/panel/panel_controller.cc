@@ -35,6 +35,15 @@ void PanelController::Update(double now_s) {
   if (backend_.ReadStatus(status)) {
     view_ = BuildViewModel(model_, status);
     if (!view_.fault_text.empty()) last_fault_ = view_.fault_text;
+    // Moved: by more than 1 um or 1 urad, far below a motor step (5 um, 0.3 mrad), above a simulation's noise.
+    bool moved = false;
+    for (std::size_t i = 0; i < status.joints.size(); ++i)
+      moved |= std::abs(status.joints[i] - still_joints_[i]) > 1e-6;
+    if (moved) {
+      still_joints_ = status.joints;
+      still_since_ns_ = status.stamp_ns;
+    }
+    status_stamp_ns_ = status.stamp_ns;
   }
   backend_.ReadHealth(health_);
   backend_.ReadHandWrench(wrench_);
@@ -75,7 +84,23 @@ void PanelController::PreviewJog() {
 
 void PanelController::GoJog() {
   last_verdict_ = backend_.StartJog(CurrentJogRequest());  // previewed again by the backend before it starts
+  last_started_jog_ = last_verdict_;
   message_ = last_verdict_->accepted ? "" : "refused: " + last_verdict_->reason;
+}
+
+bool PanelController::ScriptConditionHolds(const ScriptAction& wait) const {
+  if (wait.target == "state") return view_.has_status && view_.state_name == wait.value;
+  if (wait.target != "jog.done") throw std::invalid_argument("wait: unknown condition '" + wait.target + "'");
+  if (!view_.has_status || !last_started_jog_ || !last_started_jog_->accepted) return false;
+  const Eigen::Isometry3d& end = last_started_jog_->X_FM_end;
+  const auto apart = [&](const Eigen::Isometry3d& X, double position_m, double angle_rad) {
+    return (X.translation() - end.translation()).norm() > position_m ||
+           Eigen::AngleAxisd(end.linear().transpose() * X.linear()).angle() > angle_rad;
+  };
+  // The player's last set-point is the end pose itself (eq. 9 at its duration); 1 um, 1 urad for rounding.
+  if (apart(X_FM_commanded_, 1e-6, 1e-6)) return false;
+  if (apart(view_.X_FM, kJogDonePositionM, kJogDoneAngleRad)) return false;
+  return 1e-9 * static_cast<double>(status_stamp_ns_ - still_since_ns_) >= kJogDoneStillS;
 }
 
 void PanelController::StopJog() { backend_.StopJog(); }

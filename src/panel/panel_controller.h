@@ -10,6 +10,8 @@
 //                  jog.duration_s, jog.speed (mm/s or deg/s, by axis), haptic.method (a rendering method),
 //                  haptic.caps (clinical|demonstration), view.azimuth_deg, view.elevation_deg, view.distance_mm.
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +55,18 @@ class PanelController {
   void Click(const std::string& button);
   void Set(const std::string& field, const std::string& value);
 
+  // A script's `wait` condition (script.h) on the view of the last Update(): "state" with a state's name, or
+  // "jog.done": the last jog started with GoJog was accepted, its last set-point is commanded (the player reached
+  // its end), the measured pose is within kJogDonePositionM and kJogDoneAngleRad of it, and the measured joints
+  // have not changed for kJogDoneStillS of the follower's clock (drives near the end may still make their last
+  // steps). Throws std::invalid_argument naming an unknown condition.
+  bool ScriptConditionHolds(const ScriptAction& wait) const;
+  // The robot is at a jog's end: a step of a stroke motor is 5 um (actuation.yaml), so the drives can get there.
+  static constexpr double kJogDonePositionM = 1e-5;
+  static constexpr double kJogDoneAngleRad = 0.01 * 3.14159265358979323846 / 180;
+  // Still: longer than a stepgen's last steps are apart as it comes to rest (about 15 ms at its acceleration).
+  static constexpr double kJogDoneStillS = 0.05;
+
   JogRequest CurrentJogRequest() const;  // the form in SI
   void PreviewJog();
   void GoJog();
@@ -94,6 +108,10 @@ class PanelController {
   HandWrench wrench_;
   Eigen::Isometry3d X_FM_commanded_ = Eigen::Isometry3d::Identity();
   std::optional<JogVerdict> last_verdict_;
+  std::optional<JogVerdict> last_started_jog_;  // GoJog's, not the preview's
+  std::array<double, 6> still_joints_{};        // the measured joints, and the follower's time they were first seen
+  std::int64_t still_since_ns_ = 0;
+  std::int64_t status_stamp_ns_ = 0;
   std::string message_;
   std::string last_fault_;
   int estops_sent_ = 0;

@@ -5,12 +5,27 @@
 #include <stdexcept>
 
 #include "src/core/files.h"
+#include "src/teleop/link_messages.h"
 
 namespace robossis::panel {
 namespace {
 
 [[noreturn]] void Fail(const std::string& source, int line, const std::string& what) {
   throw std::invalid_argument(source + ":" + std::to_string(line) + ": " + what);
+}
+
+// The follower's states by the names the panel shows (teleop::ToString).
+bool IsStateName(const std::string& name) {
+  for (int s = 0; s <= static_cast<int>(teleop::OperatingState::kEStop); ++s)
+    if (name == teleop::ToString(static_cast<teleop::OperatingState>(s))) return true;
+  return false;
+}
+
+std::string StateNames() {
+  std::string names;
+  for (int s = 0; s <= static_cast<int>(teleop::OperatingState::kEStop); ++s)
+    names += (s > 0 ? ", " : "") + std::string(teleop::ToString(static_cast<teleop::OperatingState>(s)));
+  return names;
 }
 
 }  // namespace
@@ -41,7 +56,7 @@ std::vector<ScriptAction> ParseScript(const std::string& text, const std::string
       Fail(source, line_number, "time: expected a non-negative number of seconds");
     if (action.time_s < last_time_s) Fail(source, line_number, "time: expected times in non-decreasing order");
     last_time_s = action.time_s;
-    if (!(words >> verb)) Fail(source, line_number, "expected an action (click, set, screenshot, quit)");
+    if (!(words >> verb)) Fail(source, line_number, "expected an action (click, set, screenshot, quit, wait)");
     if (verb == "click") {
       action.verb = ScriptVerb::kClick;
       if (!(words >> action.target)) Fail(source, line_number, "click: expected a button name");
@@ -53,8 +68,29 @@ std::vector<ScriptAction> ParseScript(const std::string& text, const std::string
       if (!(words >> action.target)) Fail(source, line_number, "screenshot: expected a PNG path");
     } else if (verb == "quit") {
       action.verb = ScriptVerb::kQuit;
+    } else if (verb == "wait") {
+      action.verb = ScriptVerb::kWait;
+      if (!(words >> action.target)) Fail(source, line_number, "wait: expected a condition (state NAME, jog.done)");
+      if (action.target == "state") {
+        if (!(words >> action.value)) Fail(source, line_number, "wait state: expected a state's name");
+        if (!IsStateName(action.value))
+          Fail(source, line_number, "wait state: '" + action.value + "' is not one of " + StateNames());
+      } else if (action.target != "jog.done") {
+        Fail(source, line_number, "wait: '" + action.target + "' is not one of state, jog.done");
+      }
+      std::string timeout_text;
+      if (words >> timeout_text) {
+        std::size_t used = 0;
+        try {
+          action.timeout_s = std::stod(timeout_text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != timeout_text.size() || !std::isfinite(action.timeout_s) || action.timeout_s <= 0)
+          Fail(source, line_number, "wait: timeout: expected a positive number of seconds, got '" + timeout_text + "'");
+      }
     } else {
-      Fail(source, line_number, "action: '" + verb + "' is not one of click, set, screenshot, quit");
+      Fail(source, line_number, "action: '" + verb + "' is not one of click, set, screenshot, quit, wait");
     }
     std::string extra;
     if (words >> extra) Fail(source, line_number, "unexpected '" + extra + "' after the action");

@@ -43,11 +43,27 @@ actuation::ActuationConfig LoadActuationConfig() {
   return actuation::ActuationConfig::FromYaml(DataDir() / "config" / "actuation.yaml");
 }
 
-// Homes and enables once the servo thread has shown that HAL runs.
+// Homes and enables once the servo thread has shown that HAL runs (Home() refuses until the feedback is alive).
 void HomeAndEnable(ServoThread& servo) {
-  ServoThread::Sleep(0.2);
-  ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Home(); }));
+  ASSERT_TRUE(ServoThread::Eventually([&] { return servo.With([](HalFollower& f) { return f.Home(); }); }));
   ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
+}
+
+bool StepgenEnabled(int motor) { return HalSession::GetBit("stepgen." + std::to_string(motor) + ".enable"); }
+
+// Returns once HAL's servo thread has run a whole period that started after this call, so every HAL function of
+// that thread has seen the pins as they were at the call. Observed through the echo, which inverts the follower's
+// watchdog level once per period while the servo loop toggles it: a read that differs from the one before shows an
+// echo run after that read; the second such run is in a later period than the first, all of it after the call.
+bool HalRanAPeriodSinceNow(double timeout_s = 30) {
+  int changes = 0;
+  bool last = HalSession::GetBit("robossis-echo.out");
+  return ServoThread::Eventually([&] {
+    const bool now = HalSession::GetBit("robossis-echo.out");
+    if (now != last) ++changes;
+    last = now;
+    return changes >= 2;
+  }, timeout_s);
 }
 
 robot::RsrFollowerState StateOf(ServoThread& servo) {
@@ -98,7 +114,17 @@ TEST_F(HalFollowerTest, StepCountsMatchEq17AndFeedbackFollowsTheCommand) {
   });
   HomeAndEnable(servo);
   t0 = clock_.NowS();
-  ServoThread::Sleep(move.end_time_s() + 1.0);  // the move, then time to settle
+  // The move played to its end and every stepgen at its eq. 17 count: waited for, since a loaded machine makes the
+  // move's wall-clock time longer, never its outcome.
+  const auto at_the_end = [&] {
+    const auto [played, steps] = servo.With(
+        [&](HalFollower&) { return std::make_pair(tick * dt >= move.end_time_s(), actuator.output().steps); });
+    if (!played) return false;
+    for (int m = 0; m < actuation::kNumMotors; ++m)
+      if (std::abs(HalSession::GetNumber("stepgen." + std::to_string(m) + ".counts") - steps[m]) > 1.0) return false;
+    return true;
+  };
+  ServoThread::Eventually(at_the_end, 60);
 
   const robot::RsrFollowerState state = StateOf(servo);
   ASSERT_EQ(state.fault, FollowerFault::kNone) << ToString(state.fault);
@@ -125,24 +151,21 @@ TEST_F(HalFollowerTest, RaisedFaultPinFaultsTheFollowerWithinOneServoPeriod) {
   HalFollower follower(model_, config);
   ServoThread servo(follower, clock_);
   HomeAndEnable(servo);
-  ServoThread::Sleep(0.1);
-  ASSERT_TRUE(HalSession::GetBit("stepgen.0.enable"));
+  ASSERT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(0); }));
 
   // The fault pin is linked to its signal; a HAL user (or the E-stop chain) raises the signal.
   HalSession::Halcmd("sets " + fault_signal + " 1");
-  servo.Mark();  // the first Service() that starts after the rise, i.e. within one servo period
-  ServoThread::Sleep(0.05);
+  servo.Mark();  // the first Service() that starts after the rise, i.e. within one servo period of the loop
+  ASSERT_TRUE(ServoThread::Eventually([&] { return servo.StateAfterMark().has_value(); }));
   const std::optional<robot::RsrFollowerState> after = servo.StateAfterMark();
-  ASSERT_TRUE(after.has_value());
   EXPECT_EQ(after->fault, FollowerFault::kExternal) << ToString(after->fault);
   EXPECT_FALSE(after->enabled);
-  EXPECT_FALSE(HalSession::GetBit("stepgen.0.enable"));
+  EXPECT_TRUE(ServoThread::Eventually([] { return !StepgenEnabled(0); })) << "the drive was not cut";
   EXPECT_FALSE(servo.With([](HalFollower& f) { return f.Enable(); }));
   EXPECT_FALSE(servo.With([](HalFollower& f) { return f.ResetFault(); })) << "the cause is still there";
 
   HalSession::Halcmd("sets " + fault_signal + " 0");
-  ServoThread::Sleep(0.05);
-  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+  EXPECT_TRUE(ServoThread::Eventually([&] { return servo.With([](HalFollower& f) { return f.ResetFault(); }); }));
   EXPECT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
 }
 
@@ -152,14 +175,14 @@ TEST_F(HalFollowerTest, StoppedHalThreadsAreLostFeedback) {
   ServoThread servo(follower, clock_);
   HomeAndEnable(servo);
   HalSession::Halcmd("stop");
-  ServoThread::Sleep(3 * config.feedback_timeout_s);
+  // At least feedback_timeout_s of the loop's time without feedback; however long that takes here.
+  ServoThread::Eventually([&] { return StateOf(servo).fault != FollowerFault::kNone; });
   EXPECT_EQ(StateOf(servo).fault, FollowerFault::kFeedbackLost) << ToString(StateOf(servo).fault);
   EXPECT_FALSE(StateOf(servo).enabled);
   EXPECT_FALSE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
 
   HalSession::Halcmd("start");
-  ServoThread::Sleep(0.2);
-  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
+  EXPECT_TRUE(ServoThread::Eventually([&] { return servo.With([](HalFollower& f) { return f.ResetFault(); }); }));
   EXPECT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));
 }
 
@@ -168,23 +191,21 @@ TEST_F(HalFollowerTest, StalledFollowerHasItsDrivesCutByHalsWatchdog) {
   HalFollower follower(model_, config);
   ServoThread servo(follower, clock_);
   HomeAndEnable(servo);
-  ServoThread::Sleep(0.1);
-  ASSERT_TRUE(HalSession::GetBit("stepgen.3.enable"));
+  ASSERT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(3); }));
 
-  // Stall the servo loop (hold its lock) for three watchdog timeouts.
-  bool cut = false;
-  servo.With([&](HalFollower&) {
-    ServoThread::Sleep(3 * config.follower_timeout_s);
-    cut = !HalSession::GetBit("stepgen.3.enable");
-    return 0;
-  });
+  // Stall the servo loop (hold its lock) until HAL's watchdog cuts the drive: at least its timeout, which is more
+  // than the gap after which the follower knows it may have been cut (half of it).
+  const bool cut = servo.With([&](HalFollower&) { return ServoThread::Eventually([] { return !StepgenEnabled(3); }); });
   EXPECT_TRUE(cut) << "HAL's watchdog did not cut the drive";
-  ServoThread::Sleep(0.05);
+  ServoThread::Eventually([&] { return StateOf(servo).fault != FollowerFault::kNone; });
   EXPECT_EQ(StateOf(servo).fault, FollowerFault::kDrive) << "the follower must know its drives were cut";
+  // HAL's watchdog re-arms only on a rising edge of its enable that it sees: the fault's disable must reach it
+  // before the enable below. HalFollower does not wait for that itself (nothing in HAL tells it when the watchdog
+  // ran), so the test gives HAL that period; with a fixed 50 ms sleep a starved HAL thread missed the edge.
+  ASSERT_TRUE(HalRanAPeriodSinceNow());
   EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
   ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));  // re-arms HAL's watchdog
-  ServoThread::Sleep(0.1);
-  EXPECT_TRUE(HalSession::GetBit("stepgen.3.enable"));
+  EXPECT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(3); }));
 }
 
 TEST_F(HalFollowerTest, ComponentLeavesHalWhenTheFollowerStops) {
@@ -193,13 +214,11 @@ TEST_F(HalFollowerTest, ComponentLeavesHalWhenTheFollowerStops) {
     HalFollower follower(model_, config);
     ServoThread servo(follower, clock_);
     HomeAndEnable(servo);
-    ServoThread::Sleep(0.05);
     EXPECT_NE(HalSession::Halcmd("list comp").find(config.component_name), std::string::npos);
   }
   EXPECT_EQ(HalSession::Halcmd("list comp").find(config.component_name), std::string::npos)
       << HalSession::Halcmd("show comp");
-  ServoThread::Sleep(0.02);
-  EXPECT_FALSE(HalSession::GetBit("stepgen.0.enable")) << "the drives must stay disabled";
+  EXPECT_TRUE(ServoThread::Eventually([] { return !StepgenEnabled(0); })) << "the drives must be disabled";
   // The name is free again: a restarted follower joins under it.
   HalFollower again(model_, config);
   EXPECT_FALSE(again.State().enabled);

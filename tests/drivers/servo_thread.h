@@ -53,6 +53,18 @@ class ServoThread {
     return after_mark_;
   }
   static void Sleep(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
+  // Polls `done` every millisecond until it holds or `timeout_s` of wall-clock time passed; returns its last value.
+  // For what takes HAL's or this loop's periods to come true: waited for rather than slept for, so that a loaded
+  // machine only makes it later (the timeout is generous, a bound on a hang, not a timing check).
+  template <class F>
+  static bool Eventually(F&& done, double timeout_s = 30) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    for (;;) {
+      if (done()) return true;
+      if (std::chrono::steady_clock::now() > until) return done();
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
 
  private:
   void Loop() {

@@ -18,6 +18,8 @@
 #include "src/core/config.h"
 #include "src/core/units.h"
 #include "src/panel/local_session_backend.h"
+#include "src/panel/panel_controller.h"
+#include "src/panel/script.h"
 #include "src/panel/view_model.h"
 #include "src/teleop/teleop_session.h"
 #include "tests/support/alloc_counter.h"
@@ -135,6 +137,51 @@ TEST_F(LocalSessionBackendTest, AJogIsPlayedAsSetPointsThatTheFollowerUnitValida
   LoopHealth health;
   ASSERT_TRUE(backend_.ReadHealth(health));
   EXPECT_EQ(health.setpoints_by_verdict, counters.setpoints_by_verdict);  // and so are the verdicts it shows
+}
+
+// A script's waits on the panel's view, in simulated time: the state the follower reached, and a jog done only once
+// the player sent its last set-point and the robot got there (what a scripted window run waits for instead of a time).
+TEST_F(LocalSessionBackendTest, ScriptWaitsHoldUntilTheStateAndTheJogsEnd) {
+  PanelController controller(backend_, model_, PanelConfig{},
+                             HapticModeModel(haptics::KnownMethods(), SpeedCapValues{MmToM(10), DegToRad(1)}));
+  const auto wait = [](const std::string& line) { return ParseScript(line, "s").at(0); };
+  const ScriptAction ready = wait("0 wait state ready\n"), done = wait("0 wait jog.done\n");
+  Run(0.01);
+  controller.Update(0);
+  EXPECT_FALSE(controller.ScriptConditionHolds(ready));
+  EXPECT_TRUE(controller.ScriptConditionHolds(wait("0 wait state disabled\n")));
+  EXPECT_FALSE(controller.ScriptConditionHolds(done));  // no jog yet
+  controller.Click("home");
+  Run(0.2);
+  controller.Update(0);
+  EXPECT_TRUE(controller.ScriptConditionHolds(ready));
+  controller.Set("jog.axis", "z");
+  controller.Set("jog.amount", "2");
+  controller.Set("jog.duration_s", "1");
+  controller.Click("jog.preview");  // a preview is no jog
+  EXPECT_FALSE(controller.ScriptConditionHolds(done));
+  controller.Click("jog.go");
+  ASSERT_TRUE(controller.last_verdict()->accepted) << controller.last_verdict()->reason;
+  const double end_z = controller.last_verdict()->X_FM_end.translation().z();
+  int ticks_to_done = 0;
+  for (; ticks_to_done < 30000 && !controller.ScriptConditionHolds(done); ticks_to_done += 10) {
+    Run(0.001);
+    controller.Update(0);
+    if (!controller.ScriptConditionHolds(done)) continue;
+    Run(0.001);  // done is done: the robot stays where it is
+    controller.Update(0);
+    EXPECT_TRUE(controller.ScriptConditionHolds(done));
+    EXPECT_NEAR(controller.view().X_FM.translation().z(), end_z, PanelController::kJogDonePositionM);
+    EXPECT_NEAR((controller.commanded_pose().translation() - controller.last_verdict()->X_FM_end.translation()).norm(),
+                0, 1e-6);
+  }
+  EXPECT_TRUE(controller.ScriptConditionHolds(done)) << "z " << MToMm(controller.view().X_FM.translation().z())
+                                                     << " mm, the jog's end " << MToMm(end_z) << " mm";
+  // Not before the 1 s jog's end: eq. 9 comes within 1 um of its end in its last 2 % (10 s^3 of 2 mm for s < 0.02).
+  EXPECT_GE(ticks_to_done, 9800);
+  ScriptAction unknown = done;
+  unknown.target = "jog.gone";
+  EXPECT_THROW(controller.ScriptConditionHolds(unknown), std::invalid_argument);
 }
 
 TEST_F(LocalSessionBackendTest, ARefusedMoveLeavesTheRobotStill) {

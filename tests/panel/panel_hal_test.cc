@@ -85,11 +85,14 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   jog.duration_s = 1;
   const JogVerdict verdict = backend.StartJog(jog);
   ASSERT_TRUE(verdict.accepted) << verdict.reason;
-  status = WaitFor(backend, 10, [&](const auto& s) {
-    return std::abs(PoseOf(s).translation().z() - start.z() - MmToM(2)) < MmToM(0.01);
+  // The jog is over when its last set-point is commanded and the drives got there; waited for, not timed, so that a
+  // loaded machine only makes it later.
+  status = WaitFor(backend, 60, [&](const auto& s) {
+    Eigen::Isometry3d commanded;
+    return backend.ReadCommandedPose(commanded) &&
+           (commanded.translation() - verdict.X_FM_end.translation()).norm() < 1e-6 &&
+           std::abs(PoseOf(s).translation().z() - start.z() - MmToM(2)) < MmToM(0.01);
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the eq. 9 move has ended: nothing more moves
-  ASSERT_TRUE(backend.ReadStatus(status));
   const Eigen::Vector3d moved = PoseOf(status).translation() - start;
   const std::string report = FollowerReport(backend, status);
   EXPECT_NEAR(MToMm(moved.z()), 2, 0.02) << report;
@@ -100,23 +103,36 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEStop));
   status = WaitFor(backend, 5, [](const auto& s) { return s.state == OperatingState::kEStop; });
   EXPECT_EQ(status.state, OperatingState::kEStop);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // a few HAL servo periods
+  // HAL's servo thread passes the dropped enables to the stepgens in its next period: polled, not slept for.
+  const auto any_enabled = [] {
+    for (int m = 0; m < 6; ++m)
+      if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return true;
+    return false;
+  };
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (any_enabled() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   for (int m = 0; m < 6; ++m)
     EXPECT_FALSE(HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) << "motor " << m;
   backend.Stop();
 }
 
+// The script waits for the conditions, never for a time: with fixed times (home at 0.2 s, the jog at 2.0 s, quit at
+// 6.0 s) a loaded machine could still be homing when the jog was clicked (refused), or quit before the stepgens had
+// made the jog's last steps, and HAL's watchdog then cut the drives short of the command.
 TEST(PanelHalTest, TheWindowJogsTheDrives) {
   HalSession hal(StepgenHal());
   const auto dir = testing::TestDir("hal_jog");
   const testing::PanelRun run = testing::RunPanel(dir,
                                                   "0.2 click home\n"
-                                                  "1.5 set jog.axis z\n"
-                                                  "1.5 set jog.amount 2\n"
-                                                  "1.5 set jog.timing duration\n"
-                                                  "1.5 set jog.duration_s 1\n"
-                                                  "2.0 click jog.go\n"
-                                                  "6.0 quit\n",
+                                                  "0.2 wait state ready\n"
+                                                  "0.2 set jog.axis z\n"
+                                                  "0.2 set jog.amount 2\n"
+                                                  "0.2 set jog.timing duration\n"
+                                                  "0.2 set jog.duration_s 1\n"
+                                                  "0.2 click jog.go\n"
+                                                  "0.2 wait jog.done\n"
+                                                  "0.2 quit\n",
                                                   "--no-slice --no-bone --follower hal");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   ASSERT_FALSE(run.json.is_discarded()) << run.output;

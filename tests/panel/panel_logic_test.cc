@@ -135,6 +135,54 @@ TEST(Script, ParsesTimedActionsAndSkipsComments) {
   EXPECT_FALSE(player.finished());
 }
 
+// A wait holds the script back until its condition holds, and the script's clock stands still meanwhile: the
+// actions after it keep their spacing from the moment it was satisfied, however long that took.
+TEST(Script, AWaitHoldsTheActionsAfterItAndShiftsTheirTimes) {
+  const auto actions = ParseScript("0.2 click home\n0.2 wait state ready\n0.5 click jog.go\n0.5 wait jog.done 30\n"
+                                   "1.0 quit\n",
+                                   "s.txt");
+  ASSERT_EQ(actions.size(), 5u);
+  EXPECT_EQ(actions[1].verb, ScriptVerb::kWait);
+  EXPECT_EQ(actions[1].target, "state");
+  EXPECT_EQ(actions[1].value, "ready");
+  EXPECT_DOUBLE_EQ(actions[1].timeout_s, kDefaultWaitTimeoutS);
+  EXPECT_EQ(actions[3].target, "jog.done");
+  EXPECT_DOUBLE_EQ(actions[3].timeout_s, 30);
+  ScriptPlayer player(actions);
+  ASSERT_NE(player.NextDue(0.2), nullptr);  // click home
+  const ScriptAction* wait = player.NextDue(0.2);
+  ASSERT_NE(wait, nullptr);
+  EXPECT_EQ(wait->verb, ScriptVerb::kWait);
+  EXPECT_EQ(player.NextDue(5.0), wait);  // not satisfied: returned again, the click behind it held back
+  EXPECT_DOUBLE_EQ(player.WaitingS(5.0), 4.8);
+  player.Satisfied(5.0);                    // 4.8 s waited: jog.go, at 0.5, is due at 5.3
+  EXPECT_EQ(player.NextDue(5.2), nullptr);
+  const ScriptAction* go = player.NextDue(5.301);
+  ASSERT_NE(go, nullptr);
+  EXPECT_EQ(go->target, "jog.go");
+  const ScriptAction* done = player.NextDue(5.301);
+  ASSERT_NE(done, nullptr);
+  EXPECT_EQ(done->target, "jog.done");
+  player.Satisfied(5.301);  // at once: nothing more waited, quit stays 0.5 s after the jog
+  EXPECT_EQ(player.NextDue(5.7), nullptr);
+  ASSERT_NE(player.NextDue(5.81), nullptr);
+  EXPECT_TRUE(player.finished());
+}
+
+TEST(Script, AWaitNamesAKnownConditionAndAPositiveTimeout) {
+  for (const char* bad : {"1 wait\n", "1 wait state\n", "1 wait state parked\n", "1 wait jog.moving\n",
+                          "1 wait jog.done 0\n", "1 wait jog.done -1\n", "1 wait jog.done inf\n",
+                          "1 wait jog.done 5x\n", "1 wait state ready 5 6\n"}) {
+    try {
+      ParseScript(bad, "s.txt");
+      ADD_FAILURE() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("s.txt:1: "), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(ParseScript("1 wait state estop 2.5\n", "s"));
+}
+
 TEST(Script, ErrorsNameTheSourceLineAndExpectation) {
   try {
     ParseScript("0.1 click go\n0.05 quit\n", "s.txt");

@@ -1,6 +1,7 @@
 // The panel window under Xvfb (Mesa's software renderer), driven by scripts as a person would drive it. Each test
 // runs `xvfb-run -a robossis panel ...`: xvfb-run starts a private X server and always stops it when the panel
-// exits; `timeout` bounds a hung run.
+// exits; `timeout` bounds a hung run. The scripts wait for the homing and for a jog's end (`wait`) rather than give
+// them a fixed time: a loaded machine only makes a run longer.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -35,12 +36,14 @@ TEST(PanelWindow, AScriptedJogMovesTheSimulatedFollowerByTheRequestedAmount) {
   const auto dir = TestDir("jog");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 wait state ready\n"
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 5\n"
                                 "0.8 set jog.timing duration\n"
                                 "0.8 set jog.duration_s 1\n"
                                 "1.0 click jog.go\n"
-                                "8.0 quit\n",  // the 1 s jog, with room for a loaded machine (wall-clock script)
+                                "1.0 wait jog.done\n"
+                                "1.2 quit\n",
                                 "--no-slice");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   ASSERT_FALSE(run.json.is_discarded()) << run.output;
@@ -57,6 +60,7 @@ TEST(PanelWindow, ARefusedMoveLeavesTheRobotStill) {
   const auto dir = TestDir("refused");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 wait state ready\n"  // else the jog is refused for not being homed
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 200\n"
                                 "0.8 set jog.duration_s 100\n"
@@ -76,6 +80,7 @@ TEST(PanelWindow, TheEStopLatches) {
   const auto dir = TestDir("estop");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 wait state ready\n"
                                 "0.8 set jog.amount 10\n"
                                 "0.8 set jog.duration_s 4\n"
                                 "1.0 click jog.go\n"
@@ -98,6 +103,7 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
   const auto dir = TestDir("haptic");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 wait state ready\n"
                                 "0.8 click haptic.on\n"
                                 "1.0 set haptic.caps demonstration\n"  // refused: not clutched
                                 "1.2 click haptic.clutch\n"
@@ -139,15 +145,17 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   }
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 wait state ready\n"
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 66\n"
                                 "0.8 set jog.duration_s 11\n"  // eq. 9 peak 9.4 mm/s, under the 10 mm/s cap
                                 "0.9 click jog.go\n"
-                                "12.5 click haptic.on\n"
-                                "12.5 click haptic.clutch\n"
-                                "12.6 set haptic.caps demonstration\n"
-                                "12.7 click haptic.unclutch\n"
-                                "25.0 quit\n",  // a loaded machine's loops run late: room to reach the wall
+                                "0.9 wait jog.done\n"  // the script's clock stands still until the jog's end
+                                "1.0 click haptic.on\n"
+                                "1.0 click haptic.clutch\n"
+                                "1.1 set haptic.caps demonstration\n"
+                                "1.2 click haptic.unclutch\n"
+                                "13.5 quit\n",  // the hand's 10 s, and room for a loaded machine's late loops
                                 "--no-slice --no-bone --device replay:" + hand.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(run.json["haptic"]["caps"], "demonstration");

@@ -150,7 +150,18 @@ TEST(FlightRecorderTest, AKilledWriterLeavesAReadableLog) {
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   }
-  for (int i = 0; i < 4000 && pushed->load() < 300; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // Killed once the writer is well into its records and the recorder thread has put some on disk: waited for (60 s
+  // bound), since on a loaded machine the recorder thread may not have run at all by the time 300 were pushed. The
+  // log is read while the child appends to it: a torn tail is what the reader handles after the kill anyway.
+  const auto on_disk = [&] {
+    try {
+      return !ReadSessionLog(file).Decode<LeaderTickRecord>("leader", LeaderStreamSpec()).empty();
+    } catch (const std::exception&) {
+      return false;  // not even the header yet
+    }
+  };
+  for (int i = 0; i < 12000 && (pushed->load() < 300 || !on_disk()); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   kill(child, SIGKILL);
   int status = 0;
   waitpid(child, &status, 0);

@@ -470,6 +470,21 @@ bool PanelWindow::Frame() {
   std::vector<std::pair<std::string, std::string>> screenshots_due;  // (what named it, path)
   while (const panel::ScriptAction* action = m.script.NextDue(now_s)) {
     try {
+      if (action->verb == panel::ScriptVerb::kWait) {
+        // Checked on the previous frame's view (Update below): a command clicked in this frame has not been seen.
+        if (m.controller.ScriptConditionHolds(*action)) {
+          m.script.Satisfied(now_s);
+          continue;
+        }
+        if (m.script.WaitingS(now_s) > action->timeout_s) {
+          char timeout[32];
+          std::snprintf(timeout, sizeof timeout, "%g s", action->timeout_s);
+          throw std::invalid_argument("wait " + action->target + (action->value.empty() ? "" : " " + action->value) +
+                                      ": not reached within " + timeout + " (state " +
+                                      m.controller.view().state_name + ", message '" + m.controller.message() + "')");
+        }
+        break;  // the actions after the wait stay back until a later frame
+      }
       switch (action->verb) {
         case panel::ScriptVerb::kClick: m.controller.Click(action->target); break;
         case panel::ScriptVerb::kSet: m.controller.Set(action->target, action->value); break;
@@ -478,6 +493,7 @@ bool PanelWindow::Frame() {
                                        action->target);
           break;
         case panel::ScriptVerb::kQuit: quit = true; break;
+        case panel::ScriptVerb::kWait: break;  // handled above
       }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("--script line " + std::to_string(action->line) + ": " + e.what());
