@@ -109,38 +109,31 @@ bool Never(std::int64_t) { return false; }
 // 100 ms while the leader moves at the cap.
 bool InTheStall(std::int64_t t) { return t > 300'000'000 && t <= 400'000'000; }
 
-TEST_F(FollowerStallTest, WithoutAStallTheRobotFollowsAtTheCap) {
-  const StallRun run = Run(Never, Never);
+// No fault, the measured speed within the cap, no commanded step longer than max_tick_interval_s of motion at the
+// cap (after a stall, too), and the set-points' 50 mm reached in the end (caught up within the caps).
+void ExpectFollowedWithinTheCaps(const StallRun& run, const FollowerConfig& config) {
   EXPECT_TRUE(run.enabled_throughout) << run.left_enabled;
   EXPECT_LE(run.max_measured_speed_mps, 1.01 * kCapMps);
+  EXPECT_LE(run.max_command_step_m, kCapMps * config.watchdog.max_tick_interval_s * 1.0001);
+  EXPECT_NEAR(run.travelled_m, 0.05, 0.001);
+}
+
+TEST_F(FollowerStallTest, WithoutAStallTheRobotFollowsAtTheCap) {
+  const StallRun run = Run(Never, Never);
+  ExpectFollowedWithinTheCaps(run, ShippedFollowerConfig());
   EXPECT_GT(run.max_measured_speed_mps, 0.9 * kCapMps);
-  EXPECT_NEAR(run.travelled_m, 0.05, 0.001);  // the set-points' 50 mm
 }
 
 TEST_F(FollowerStallTest, AHundredMillisecondStallOfTheFollowerLoopNeitherFaultsNorJumps) {
-  FollowerConfig config = ShippedFollowerConfig();
-  const StallRun run = Run(InTheStall, Never);
-  EXPECT_TRUE(run.enabled_throughout) << run.left_enabled;
-  EXPECT_LE(run.max_measured_speed_mps, 1.01 * kCapMps);
-  // After the stall the follower moves at most max_tick_interval_s of motion at the cap in one tick.
-  EXPECT_LE(run.max_command_step_m, kCapMps * config.watchdog.max_tick_interval_s * 1.0001);
-  EXPECT_NEAR(run.travelled_m, 0.05, 0.001);  // and then catches up within the caps
+  ExpectFollowedWithinTheCaps(Run(InTheStall, Never), ShippedFollowerConfig());
 }
 
 TEST_F(FollowerStallTest, AHundredMillisecondStallOfEveryLoopNeitherFaultsNorJumps) {
-  FollowerConfig config = ShippedFollowerConfig();
-  const StallRun run = Run(InTheStall, InTheStall);
-  EXPECT_TRUE(run.enabled_throughout) << run.left_enabled;
-  EXPECT_LE(run.max_measured_speed_mps, 1.01 * kCapMps);
-  EXPECT_LE(run.max_command_step_m, kCapMps * config.watchdog.max_tick_interval_s * 1.0001);
-  EXPECT_NEAR(run.travelled_m, 0.05, 0.001);
+  ExpectFollowedWithinTheCaps(Run(InTheStall, InTheStall), ShippedFollowerConfig());
 }
 
 TEST_F(FollowerStallTest, AHundredMillisecondStallOfThePlantAloneIsMadeUpWithoutAFault) {
-  const StallRun run = Run(Never, InTheStall);
-  EXPECT_TRUE(run.enabled_throughout) << run.left_enabled;
-  EXPECT_LE(run.max_measured_speed_mps, 1.01 * kCapMps);
-  EXPECT_NEAR(run.travelled_m, 0.05, 0.001);
+  ExpectFollowedWithinTheCaps(Run(Never, InTheStall), ShippedFollowerConfig());
 }
 
 }  // namespace
