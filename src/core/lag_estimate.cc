@@ -11,14 +11,17 @@ namespace {
 // What Correlation() returns when a lag cannot be judged (below any correlation).
 constexpr double kNotJudged = -2;
 
-// One series binned on the grid t0 + k·dt: the sum of its standardized channels, NaN in a bin that holds no judged
-// sample; `count` the judged samples in each bin.
+// One series binned on the grid t0 + k·dt: `channels` values per bin (one, the sum of the standardized channels, for
+// kSumStandardized; the bin means of each channel for kVector), NaN in a bin that holds no judged sample; `count`
+// the judged samples in each bin.
 struct Profile {
   double t0 = 0, dt = 0;
+  std::size_t channels = 1;
   std::vector<double> v;
   std::vector<std::size_t> count;
   std::size_t valid_bins = 0;
   bool moving = false;  // some channel varies over the judged bins
+  double at(std::size_t k, std::size_t c) const { return v[k * channels + c]; }
 };
 
 double Span(const LagSeries& s) { return s.t_s.back() - s.t_s.front(); }
@@ -31,14 +34,14 @@ bool Judged(const LagSeries& s, std::size_t i) {
   return std::isfinite(s.t_s[i]);
 }
 
-Profile Bin(const LagSeries& s, double dt) {
+Profile Bin(const LagSeries& s, double dt, LagChannels mode) {
   // Bin means, not point samples, so that a coarse grid does not alias fast motion.
   Profile p;
   p.t0 = s.t_s.front();
   p.dt = dt;
   const std::size_t n = static_cast<std::size_t>(std::floor(Span(s) / dt));
   const std::size_t m = s.channels;
-  std::vector<double> sum(n * m, 0.0);
+  std::vector<double> mean_in_bin(n * m, 0.0);
   p.count.assign(n, 0);
   for (std::size_t i = 0; i < s.t_s.size(); ++i) {
     if (!Judged(s, i)) continue;
@@ -46,69 +49,87 @@ Profile Bin(const LagSeries& s, double dt) {
     if (!(u >= 0)) continue;
     const std::size_t k = static_cast<std::size_t>(u);
     if (k >= n) continue;
-    for (std::size_t c = 0; c < m; ++c) sum[k * m + c] += s.values[i * m + c];
+    for (std::size_t c = 0; c < m; ++c) mean_in_bin[k * m + c] += s.values[i * m + c];
     ++p.count[k];
   }
-  p.v.assign(n, 0.0);
   for (std::size_t k = 0; k < n; ++k) {
-    if (p.count[k] > 0) ++p.valid_bins;
+    if (p.count[k] == 0) continue;
+    ++p.valid_bins;
+    for (std::size_t c = 0; c < m; ++c) mean_in_bin[k * m + c] /= static_cast<double>(p.count[k]);
   }
-  // Each channel standardized over the judged bins (so that channels in different units weigh alike), then summed.
+  const double valid = static_cast<double>(std::max<std::size_t>(p.valid_bins, 1));
+  std::vector<double> mean(m, 0.0), sd(m, 0.0);
   for (std::size_t c = 0; c < m; ++c) {
-    double mean = 0, sq = 0;
     for (std::size_t k = 0; k < n; ++k) {
-      if (p.count[k] > 0) mean += sum[k * m + c] / static_cast<double>(p.count[k]);
+      if (p.count[k] > 0) mean[c] += mean_in_bin[k * m + c];
     }
-    mean /= static_cast<double>(std::max<std::size_t>(p.valid_bins, 1));
+    mean[c] /= valid;
     for (std::size_t k = 0; k < n; ++k) {
-      if (p.count[k] == 0) continue;
-      const double d = sum[k * m + c] / static_cast<double>(p.count[k]) - mean;
-      sq += d * d;
+      if (p.count[k] > 0) sd[c] += (mean_in_bin[k * m + c] - mean[c]) * (mean_in_bin[k * m + c] - mean[c]);
     }
-    const double sd = std::sqrt(sq / static_cast<double>(std::max<std::size_t>(p.valid_bins, 1)));
-    if (!(sd > 0)) continue;  // a constant channel carries no timing
-    p.moving = true;
+    sd[c] = std::sqrt(sd[c] / valid);
+    if (sd[c] > 0) p.moving = true;  // a constant channel carries no timing
+  }
+  if (mode == LagChannels::kVector) {
+    p.channels = m;
+    p.v = std::move(mean_in_bin);
+  } else {
+    // Each channel standardized over the judged bins (so that channels in different units weigh alike), then summed.
+    p.channels = 1;
+    p.v.assign(n, 0.0);
     for (std::size_t k = 0; k < n; ++k) {
-      if (p.count[k] > 0) p.v[k] += (sum[k * m + c] / static_cast<double>(p.count[k]) - mean) / sd;
+      for (std::size_t c = 0; c < m; ++c) {
+        if (p.count[k] > 0 && sd[c] > 0) p.v[k] += (mean_in_bin[k * m + c] - mean[c]) / sd[c];
+      }
     }
   }
   for (std::size_t k = 0; k < n; ++k) {
-    if (p.count[k] == 0) p.v[k] = std::nan("");
+    if (p.count[k] > 0) continue;
+    for (std::size_t c = 0; c < p.channels; ++c) p.v[k * p.channels + c] = std::nan("");
   }
   return p;
 }
 
 // Normalized correlation of a(t) and b(t − lag) over the bins of `a` where both are judged (b linearly interpolated
-// between judged bins); kNotJudged if they cover less than min_overlap_s or fewer than min_bins bins, or either is
-// constant there. `samples` gets the judged samples of `a` in the bins compared.
+// between judged bins), over all channels as one vector; kNotJudged if they cover less than min_overlap_s or fewer
+// than min_bins bins, or either is constant there. `samples` gets the judged samples of `a` in the bins compared.
 double Correlation(const Profile& a, const Profile& b, double lag_s, double min_overlap_s, std::size_t min_bins,
                    std::size_t* samples = nullptr) {
-  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  const std::size_t m = a.channels;
+  std::vector<double> sa(m, 0.0), sb(m, 0.0);
+  double saa = 0, sbb = 0, sab = 0;
   std::size_t count = 0, judged = 0;
-  for (std::size_t k = 0; k < a.v.size(); ++k) {
-    if (std::isnan(a.v[k])) continue;
+  const std::size_t nb = b.v.size() / b.channels;
+  for (std::size_t k = 0; k < a.v.size() / m; ++k) {
+    if (std::isnan(a.at(k, 0))) continue;
     const double t_b = a.t0 + static_cast<double>(k) * a.dt - lag_s;
     const double u = (t_b - b.t0) / b.dt;
-    if (u < 0 || u > static_cast<double>(b.v.size()) - 1) continue;
+    if (u < 0 || u > static_cast<double>(nb) - 1) continue;
     const std::size_t j = static_cast<std::size_t>(u);
     const double f = u - static_cast<double>(j);
-    double vb = b.v[j];
-    if (j + 1 < b.v.size() && f > 0) vb = (1 - f) * b.v[j] + f * b.v[j + 1];
-    if (std::isnan(vb)) continue;
-    const double va = a.v[k];
-    sa += va;
-    sb += vb;
-    saa += va * va;
-    sbb += vb * vb;
-    sab += va * vb;
+    const bool blend = j + 1 < nb && f > 0;
+    if (std::isnan(b.at(j, 0)) || (blend && std::isnan(b.at(j + 1, 0)))) continue;
+    for (std::size_t c = 0; c < m; ++c) {
+      const double vb = blend ? (1 - f) * b.at(j, c) + f * b.at(j + 1, c) : b.at(j, c);
+      const double va = a.at(k, c);
+      sa[c] += va;
+      sb[c] += vb;
+      saa += va * va;
+      sbb += vb * vb;
+      sab += va * vb;
+    }
     ++count;
     judged += a.count[k];
   }
   if (samples != nullptr) *samples = judged;
   if (static_cast<double>(count) * a.dt < min_overlap_s || count < min_bins) return kNotJudged;
-  const double c = static_cast<double>(count);
-  const double cov = sab / c - (sa / c) * (sb / c);
-  const double va = saa / c - (sa / c) * (sa / c), vb = sbb / c - (sb / c) * (sb / c);
+  const double n = static_cast<double>(count);
+  double cov = sab / n, va = saa / n, vb = sbb / n;
+  for (std::size_t c = 0; c < m; ++c) {
+    cov -= (sa[c] / n) * (sb[c] / n);
+    va -= (sa[c] / n) * (sa[c] / n);
+    vb -= (sb[c] / n) * (sb[c] / n);
+  }
   if (va <= 0 || vb <= 0) return kNotJudged;
   return cov / std::sqrt(va * vb);
 }
@@ -167,8 +188,8 @@ LagEstimate EstimateLag(const LagSeries& reference, const LagSeries& delayed, co
   auto scan = [&](double dt, double a, double b, std::vector<double>& lags, std::vector<double>& cs) {
     lags.clear();
     cs.clear();
-    const Profile pd = Bin(delayed, dt);
-    const Profile pr = Bin(reference, dt);
+    const Profile pd = Bin(delayed, dt, options.channels);
+    const Profile pr = Bin(reference, dt, options.channels);
     if (pd.valid_bins < options.min_bins || pr.valid_bins < options.min_bins) {
       scan_status = LagStatus::kTooFewSamples;
       return false;
@@ -243,7 +264,8 @@ LagEstimate EstimateLag(const LagSeries& reference, const LagSeries& delayed, co
   }
   out.lag_s = best;
   out.correlation = best_c;
-  Correlation(Bin(delayed, finest_dt), Bin(reference, finest_dt), best, 0, 0, &out.samples_judged);
+  Correlation(Bin(delayed, finest_dt, options.channels), Bin(reference, finest_dt, options.channels), best, 0, 0,
+              &out.samples_judged);
   out.status = best_c >= options.min_correlation ? LagStatus::kOk : LagStatus::kNoMatch;
   return out;
 }

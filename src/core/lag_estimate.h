@@ -4,8 +4,9 @@
 // (src/teleop/delay_estimate.h) are both this search, so that one figure means one thing everywhere.
 //
 // Both series are rate profiles (speeds or velocity components: rates, not positions, so that a constant offset
-// between them does not bias the lag). Each is averaged into bins of width dt, each channel is standardized, the
-// channels are summed into one profile, and the lag maximizing the normalized cross-correlation of the two profiles
+// between them does not bias the lag). Each is averaged into bins of width dt, the channels are combined (each
+// standardized and summed, or compared as one vector: LagChannels), and the lag maximizing the normalized
+// cross-correlation of the two profiles
 // is found coarse-to-fine (bins 10x finer around the best candidates at each level), with a parabolic sub-step
 // peak. Samples can be excluded (a per-sample flag, or a non-finite value): an excluded sample is never judged,
 // and a bin holding only excluded samples drops out of the comparison at every lag. Positions are turned into
@@ -39,7 +40,18 @@ struct LagSeries {
   std::span<const std::uint8_t> judged = {};
 };
 
+// How several channels make one comparison.
+enum class LagChannels {
+  // Each channel standardized, then summed into one profile (channels in different units: the calibration's
+  // linear and angular speeds).
+  kSumStandardized,
+  // The channels are the components of one vector (a velocity): the correlation is that of the vectors,
+  // sum_c cov_c / sqrt(sum_c var_a_c * sum_c var_b_c), so a reversal counts against a lag, as it should.
+  kVector,
+};
+
 struct LagSearchOptions {
+  LagChannels channels = LagChannels::kSumStandardized;
   // The lags searched: [min_lag_s, max_lag_s], further limited to those where the series overlap by at least
   // min_overlap_fraction of the shorter one's time span (and, at each lag, the judged bins compared must cover
   // that much time).
