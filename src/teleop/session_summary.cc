@@ -150,7 +150,8 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
 //   across it;
 // - the cap: eq. 11 scales the hand down (scale < 1) exactly when it is faster than the cap's headroom; the ideal
 //   speed is then held at the cap and the set-point's is the clipped one, which no single lag aligns with the
-//   hand. Those ticks are not judged: the lag is measured where the reference speed is below the cap, where the
+//   hand. Those ticks are not judged, nor a set-point at its cap (SummaryOptions' caps) or within kCapSettle_s after
+//   the cap bound (still catching up): the lag is measured where the reference speed is below the cap, where the
 //   set-point can follow it.
 DelayEstimate SessionSummary::HandToSetPointDelay() const {
   const std::vector<int> segment = RebaseSegments(ideal_, transfer_);
