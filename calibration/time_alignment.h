@@ -28,9 +28,9 @@ struct SpeedCorrelationResult {
 };
 
 // Coarse-to-fine search for the offset maximizing the normalized cross-correlation of the speed profiles
-// (angular speed and linear speed, each standardized). Angular speed does not depend on the unknown tracker
-// transform or marker offset, which is why it is used before any registration. Throws std::runtime_error if the
-// recordings are too short or motionless.
+// (angular speed and linear speed, each standardized), by the project's one lag estimator (src/core/lag_estimate.h).
+// Angular speed does not depend on the unknown tracker transform or marker offset, which is why it is used before
+// any registration. Throws std::runtime_error if the recordings are too short or motionless.
 SpeedCorrelationResult EstimateOffsetBySpeedCorrelation(const PoseTrajectory& reference,
                                                         const PoseTrajectory& tracked,
                                                         const SpeedCorrelationOptions& options = {});

@@ -50,7 +50,9 @@ print(f"teleop leader {r} Hz: ticks {s['leader_ticks']}, wake latency p99 {s['le
 print(f"teleop follower 10000 Hz (with leader {r} Hz): ticks {s['follower_ticks']}, wake latency p99 "
       f"{s['follower_wake_latency_us_p99']:.0f} us, period jitter p99 {s['follower_period_jitter_us_p99']:.0f} us "
       f"max {s['follower_period_jitter_us_max']:.0f} us, overrun rate {s['follower_overrun_rate']:.4f}")
-print(f"  hand-to-set-point delay {s['hand_to_setpoint_delay_ms']:.1f} ms, limit violations {s['follower_limit_violations']}")
+d = s['hand_to_setpoint_delay_ms']  # null unless the status is ok (e.g. cap_binds)
+d = f"{d:.1f} ms" if d is not None else "none"
+print(f"  hand-to-set-point delay {d} ({s['hand_to_setpoint_delay_status']}), limit violations {s['follower_limit_violations']}")
 PY
   sed 's/^/  /' "$tmp/teleop_$rate.err"
 }

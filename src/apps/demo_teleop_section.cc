@@ -52,8 +52,12 @@ void WriteTeleopSection(DemoContext& demo) {
               << " N·m |\n"
               << "| max follower speed | " << num("max_follower_speed_mm_s") << " mm/s, "
               << num("max_follower_angular_speed_deg_s") << " °/s |\n"
-              << "| hand-to-set-point delay (the transfer's filters) | " << num("hand_to_setpoint_delay_ms")
-              << " ms |\n"
+              << "| hand-to-set-point delay (the transfer's filters, where the hand is below the cap) | "
+              << (s["hand_to_setpoint_delay_ms"].is_number() ? num("hand_to_setpoint_delay_ms") + " ms"
+                                                              : std::string("none"))
+              << " (" << s["hand_to_setpoint_delay_status"].get<std::string>() << ", "
+              << FormatFixed(100 * s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0)
+              << " % of the set-points judged) |\n"
               << "| watchdog holds | " << s["watchdog_holds"] << " |\n\n";
   demo.report << "Follower state transitions:";
   for (const auto& t : s["follower_transitions"]) {

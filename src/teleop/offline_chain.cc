@@ -34,25 +34,33 @@ void IdealReference(const transfer::HcTrajectory& hc, const transfer::TransferCo
   for (const HcRecord& r : hc.clean_records) {
     mapper.SetClutch(r.clutch);
     transfer::MappingIncrement inc;
-    if (mapper.Push(r.ToSample(), inc) == transfer::SampleVerdict::kAccepted) x += inc.delta_F;
+    std::uint8_t capped = 0;
+    if (mapper.Push(r.ToSample(), inc) == transfer::SampleVerdict::kAccepted) {
+      x += inc.delta_F;
+      capped = static_cast<std::uint8_t>((inc.scale_linear < 1 ? teleop::kCappedLinear : 0) |
+                                         (inc.scale_angular < 1 ? teleop::kCappedAngular : 0));
+    }
     trace.t_ref.push_back(r.time_s);
     trace.ref.push_back(x);
+    trace.ref_capped.push_back(capped);
   }
 }
 
-// The hand→set-point delay by the one estimator (delay_estimate.h): the set-point velocity, subsampled to 1 kHz,
-// against the ideal incremental trajectory.
+// The hand→set-point delay by the one estimator (delay_estimate.h): the set-point, subsampled to 1 kHz, against
+// the ideal incremental trajectory; the samples where eq. 11 capped the clean hand are not judged.
 void EstimateDelay(TransferTrace& tr) {
   if (tr.t_ref.empty() || tr.t.empty()) return;
   std::vector<double> t;
-  std::vector<Vector6d> v;
+  std::vector<Vector6d> x;
   for (std::size_t k = 0; k < tr.t.size(); k += 10) {
     t.push_back(tr.t[k]);
-    v.push_back(tr.velocity[k]);
+    x.push_back(tr.displacement[k]);
   }
   tr.summary.final_tracking_error_mm = MToMm((tr.displacement.back().head<3>() - tr.ref.back().head<3>()).norm());
-  const DelayEstimate e = teleop::EstimateDelay(tr.t_ref, tr.ref, t, v);
-  if (!e.valid) return;
+  const DelayEstimate e =
+      teleop::EstimateDelay({.t_s = tr.t_ref, .x = tr.ref, .capped = tr.ref_capped}, {.t_s = t, .x = x});
+  tr.summary.delay_status = ToString(e.status);
+  if (!e.ok()) return;
   tr.summary.delay_ms = e.delay_s * 1e3;
   tr.summary.delay_rms_residual_mm_s = (e.angular ? RadToDeg(1.0) : MToMm(1.0)) * e.rms_residual;
 }
@@ -310,6 +318,7 @@ nlohmann::ordered_json SummaryJson(const TransferSummary& s) {
   j["max_accel_mm_s2"] = s.max_accel_mm_s2;
   j["max_jerk_mm_s3"] = s.max_jerk_mm_s3;
   j["delay_ms"] = s.delay_ms;
+  j["delay_status"] = s.delay_status;
   j["steps_error_max"] = s.steps_error_max;
   j["max_angular_accel_deg_s2"] = s.max_angular_accel_deg_s2;
   j["delay_velocity_rms_residual"] = s.delay_rms_residual_mm_s;

@@ -28,6 +28,7 @@ struct TransferSummary {
   double max_angular_accel_deg_s2 = 0;
   double delay_ms = 0;                // lag minimising the RMS between set-point and ideal incremental velocities
   double delay_rms_residual_mm_s = 0; // the velocity RMS left at that lag (mm/s, or deg/s for a pure rotation)
+  std::string delay_status = "not_estimated";  // teleop::DelayStatus; delay_ms is 0 unless "ok"
   double steps_error_max = 0;         // max |n - s| over motors and ticks (steps)
   double max_hc_speed_mm_s = 0;       // the hand, for Fig. 8b
   double final_tracking_error_mm = 0; // |set-point - ideal| after settling
@@ -61,6 +62,7 @@ struct TransferTrace {
   // the ideal incremental trajectory (clean hand, eq. 10–11 only), 1 kHz at hand time
   std::vector<double> t_ref;
   std::vector<Vector6d> ref;
+  std::vector<std::uint8_t> ref_capped;  // eq. 11 scaled the clean hand down there (teleop::kCappedLinear, ...)
   std::vector<actuation::StepEvent> events;
   robot::RsrJointVector q_start = robot::RsrJointVector::Zero();
   TransferSummary summary;

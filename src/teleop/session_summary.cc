@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "src/core/units.h"
-#include "src/teleop/delay_estimate.h"
 
 namespace robossis::teleop {
 
@@ -68,6 +67,8 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
     t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
     ideal_.push_back(Eigen::Map<const Vector6d>(r.ideal_disp.data()));
     transfer_.push_back(Eigen::Map<const Vector6d>(r.transfer_disp.data()));
+    capped_.push_back(static_cast<std::uint8_t>((r.scale_linear < 1 ? kCappedLinear : 0) |
+                                                (r.scale_angular < 1 ? kCappedAngular : 0)));
   }
   if (r.leader_state != leader_state_) {
     leader_transitions_.push_back({{"t_s", 1e-9 * static_cast<double>(r.t_ns)},
@@ -142,10 +143,23 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
 }
 
 // The hand-to-set-point delay of the motion transfer: the transfer's set-point against the eq. 10–11
-// displacement (the hand's motion after the dynamic scaling, before any filter), by the one estimator.
-double SessionSummary::HandToSetPointDelayMs() const {
-  const DelayEstimate e = EstimateDelay(t_sent_, ideal_, t_sent_, VelocityOf(t_sent_, transfer_));
-  return e.valid ? 1e3 * e.delay_s : 0.0;
+// displacement (the hand's motion after the dynamic scaling, before any filter), by the one estimator. Both come
+// from the leader's records alone, so a replayed log gives the same figure:
+// - segments: MotionTransfer::Rebase (the leader follows the measured robot while the robot does not follow)
+//   zeroes both displacements; a zero displacement starts a new segment, and velocities are never differenced
+//   across it;
+// - the cap: eq. 11 scales the hand down (scale < 1) exactly when it is faster than the cap's headroom; the ideal
+//   speed is then held at the cap and the set-point's is the clipped one, which no single lag aligns with the
+//   hand. Those ticks are not judged, nor a set-point at its cap (SummaryOptions' caps) or within kCapSettle_s after
+//   the cap bound (still catching up): the lag is measured where the reference speed is below the cap, where the
+//   set-point can follow it.
+DelayEstimate SessionSummary::HandToSetPointDelay() const {
+  const std::vector<int> segment = RebaseSegments(ideal_, transfer_);
+  DelaySearch search;
+  search.max_linear_speed_m_s = options_.max_linear_speed_m_s;
+  search.max_angular_speed_rad_s = options_.max_angular_speed_rad_s;
+  return EstimateDelay({.t_s = t_sent_, .x = ideal_, .segment = segment, .capped = capped_},
+                       {.t_s = t_sent_, .x = transfer_, .segment = segment, .capped = capped_}, search);
 }
 
 nlohmann::ordered_json SessionSummary::Summary() const {
@@ -162,7 +176,13 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["follower_limit_violations"] = limit_violations_;
   j["max_follower_speed_mm_s"] = MToMm(max_speed_m_s_);
   j["max_follower_angular_speed_deg_s"] = RadToDeg(max_angular_speed_rad_s_);
-  j["hand_to_setpoint_delay_ms"] = HandToSetPointDelayMs();
+  // null unless the estimate is ok (the status says why: cap_binds, too_few_samples, ...), never a 0 that reads as
+  // "no delay".
+  const DelayEstimate delay = HandToSetPointDelay();
+  j["hand_to_setpoint_delay_ms"] = delay.ok() ? nlohmann::ordered_json(1e3 * delay.delay_s) : nlohmann::ordered_json();
+  j["hand_to_setpoint_delay_status"] = ToString(delay.status);
+  j["hand_to_setpoint_delay_judged_fraction"] = delay.judged_fraction();  // of the set-points sent
+  j["hand_to_setpoint_delay_correlation"] = delay.correlation;  // of the velocities at that lag (the quality)
   j["watchdog_holds"] = end_.watchdog_holds;
   j["follower_transitions"] = follower_transitions_;
   j["leader_transitions"] = leader_transitions_;

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 
 #include "src/core/pose.h"
 #include "src/core/rt/loop_stats.h"
+#include "src/teleop/delay_estimate.h"
 #include "src/teleop/flight_recorder.h"
 
 namespace robossis::teleop {
@@ -22,6 +24,11 @@ struct SummaryOptions {
   double follower_rate_hz = 10000;
   double leader_csv_rate_hz = 1000;   // leader.csv rows (decimated from the loop rate)
   double follower_csv_rate_hz = 200;  // follower.csv rows (>= 100 Hz)
+  // The transfer's speed caps (SI), for the hand-to-set-point delay: a set-point at its cap is not judged (the cap,
+  // not the filters, decides where it is). Infinite: not known (a log from before the header's meta held them);
+  // the records' eq. 11 scales still mark where the hand was faster than the cap.
+  double max_linear_speed_m_s = std::numeric_limits<double>::infinity();
+  double max_angular_speed_rad_s = std::numeric_limits<double>::infinity();
 };
 
 class SessionSummary {
@@ -40,7 +47,7 @@ class SessionSummary {
   std::string PeriodsCsv() const;
 
  private:
-  double HandToSetPointDelayMs() const;
+  DelayEstimate HandToSetPointDelay() const;
 
   SummaryOptions options_;
   // Leader.
@@ -55,6 +62,7 @@ class SessionSummary {
   nlohmann::ordered_json leader_transitions_ = nlohmann::ordered_json::array();
   std::vector<double> t_sent_;                     // transfer ticks: for the delay estimate
   std::vector<Vector6d> ideal_, transfer_;
+  std::vector<std::uint8_t> capped_;               // eq. 11 scaled the hand down at that tick: kCappedLinear, ...
   std::string leader_csv_;
   int leader_decimation_ = 1;
   double max_hand_speed_m_s_ = 0;

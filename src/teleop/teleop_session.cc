@@ -71,6 +71,11 @@ SummaryOptions OptionsFromMeta(const nlohmann::json& meta) {
   SummaryOptions o;
   o.leader_rate_hz = meta.at("rate_hz").get<double>();
   o.follower_rate_hz = meta.at("follower_rate_hz").get<double>();
+  // The caps, for the delay estimate; absent from the logs written before they were recorded (then unknown).
+  if (meta.contains("max_linear_speed_m_s")) o.max_linear_speed_m_s = meta.at("max_linear_speed_m_s").get<double>();
+  if (meta.contains("max_angular_speed_rad_s")) {
+    o.max_angular_speed_rad_s = meta.at("max_angular_speed_rad_s").get<double>();
+  }
   return o;
 }
 
@@ -161,7 +166,9 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
   nlohmann::json meta = {{"device", request.device},     {"method", request.method},
                          {"follower", request.follower}, {"rate_hz", request.rate_hz},
                          {"follower_rate_hz", follower_rate_hz}, {"duration_s", request.duration_s},
-                         {"clock", clock.real ? "real" : "simulated"}, {"units", unit_names[static_cast<int>(units)]}};
+                         {"clock", clock.real ? "real" : "simulated"}, {"units", unit_names[static_cast<int>(units)]},
+                         {"max_linear_speed_m_s", setup.transfer.caps.max_linear_speed_m_s},
+                         {"max_angular_speed_rad_s", setup.transfer.caps.max_angular_speed_rad_s}};
   std::vector<StreamSpec> streams = {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()};
   SessionLogWriter log(log_file, meta, streams);
   SessionSummary summary(OptionsFromMeta(meta));

@@ -214,7 +214,7 @@ void BM_TransferFilterDelay(benchmark::State& state) {
       goal.push_back(mt.tick_info().goal);
       disp.push_back(mt.set_point().displacement);
     }
-    estimate = EstimateDelay(t, goal, t, VelocityOf(t, disp));
+    estimate = EstimateDelay({.t_s = t, .x = goal}, {.t_s = t, .x = disp});
     const std::size_t n = t.size();
     const double v_goal = (goal[n - 1] - goal[n - 2]).head<3>().norm() / 1e-3;
     lag_ms = v_goal > 0 ? 1e3 * (goal[n - 1] - disp[n - 1]).head<3>().norm() / v_goal : 0;
@@ -231,6 +231,7 @@ void BM_TransferFilterDelay(benchmark::State& state) {
     for (const Vector6d& v : v_set) overshoot = std::max(overshoot, v.head<3>().norm() / v_goal - 1.0);
     benchmark::DoNotOptimize(lag_ms);
   }
+  if (!estimate.ok()) state.SkipWithError((std::string("delay estimate: ") + ToString(estimate.status)).c_str());
   state.counters["filter_delay_ms"] = 1e3 * estimate.delay_s;
   state.counters["delay_over_50ms_goal"] = 1e3 * estimate.delay_s / 50.0;
   state.counters["ramp_position_lag_ms"] = lag_ms;

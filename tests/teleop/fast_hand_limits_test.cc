@@ -1,7 +1,9 @@
 // The fast hand (up to 250 mm/s, ±60°) at the shipped caps, not raised ones: the demonstration's 10 mm/s and
 // 1°/s (transfer.yaml) and the clinical 2 mm/s and 0.2°/s (ClinicalSpeedCaps). Eq. 11 scales the hand down to the
 // caps, so the set-point moves 25x to 125x slower than the hand: no joint limit is crossed, the follower follows
-// at (not above) the cap, and the hand-to-set-point delay stays within the 50 ms goal. Both the pulse recorder
+// at (not above) the cap, and the summary reports that the cap binds instead of a hand-to-set-point delay (no single
+// lag aligns a set-point held at the cap with the hand). Below the cap the delay is a figure, within the 50 ms goal,
+// the same when the session log is replayed. Both the pulse recorder
 // (which measures every tick) and the Bullet follower (which measures at its 1 kHz physics step) are driven: the
 // cap is a limit on the robot's measured speed, within 1 %.
 
@@ -28,7 +30,7 @@ struct CapsCase {
 
 class FastHandAtShippedCaps : public ::testing::TestWithParam<CapsCase> {};
 
-TEST_P(FastHandAtShippedCaps, StaysInsideFollowsAtTheCapAndKeepsTheDelay) {
+TEST_P(FastHandAtShippedCaps, StaysInsideFollowsAtTheCapAndReportsTheCapBinds) {
   const CapsCase c = GetParam();
   TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
   if (c.clinical) setup.transfer.caps = transfer::ClinicalSpeedCaps();
@@ -44,7 +46,7 @@ TEST_P(FastHandAtShippedCaps, StaysInsideFollowsAtTheCapAndKeepsTheDelay) {
   std::filesystem::remove(log);
   const auto& s = out.summary;
   const double cap_mm_s = MToMm(setup.transfer.caps.max_linear_speed_m_s);
-  RecordProperty("hand_to_setpoint_delay_ms", std::to_string(s["hand_to_setpoint_delay_ms"].get<double>()));
+  RecordProperty("hand_to_setpoint_delay_status", s["hand_to_setpoint_delay_status"].get<std::string>());
   RecordProperty("setpoints_stopped_at_boundary", std::to_string(s["setpoints_stopped_at_boundary"].get<double>()));
   EXPECT_TRUE(s["complete"].get<bool>());
   EXPECT_EQ(s["follower_limit_violations"], 0);
@@ -54,7 +56,37 @@ TEST_P(FastHandAtShippedCaps, StaysInsideFollowsAtTheCapAndKeepsTheDelay) {
   EXPECT_LE(s["max_follower_speed_mm_s"].get<double>(), 1.01 * cap_mm_s);  // ... never faster than the cap
   EXPECT_LE(s["max_follower_angular_speed_deg_s"].get<double>(),
             1.01 * RadToDeg(setup.transfer.caps.max_angular_speed_rad_s));
+  // The hand is far faster than the cap nearly all the time: the set-point runs at the cap and no single lag
+  // aligns it with the hand, so the summary says so instead of a figure.
+  EXPECT_EQ(s["hand_to_setpoint_delay_status"], "cap_binds");
+  EXPECT_TRUE(s["hand_to_setpoint_delay_ms"].is_null());
+}
+
+TEST(FastHandBelowTheCap, TheDelayIsAFigureWithinTheGoalAndTheReplayGivesIt) {
+  TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  // Caps the fast hand (up to 248 mm/s) stays below nearly all the time (eq. 11 scales to 95 % of 300 mm/s).
+  setup.transfer.caps.max_linear_speed_m_s = MmToM(300);
+  setup.transfer.caps.max_angular_speed_rad_s = DegToRad(60);
+  setup.follower.setpoint.caps = setup.transfer.caps;
+  TeleopRequest r;
+  r.device = "replay:" + FastHand().string();
+  r.method = "proxy-safe";
+  r.follower = "recorder";
+  r.duration_s = 17;
+  const auto log = std::filesystem::temp_directory_path() / "robossis_fast_hand_below_cap.rlog";
+  const TeleopOutputs out = RunTeleop(r, setup, log);
+  const TeleopOutputs replayed = ReplaySessionLog(log);
+  std::filesystem::remove(log);
+  const auto& s = out.summary;
+  ASSERT_EQ(s["hand_to_setpoint_delay_status"], "ok");
+  RecordProperty("hand_to_setpoint_delay_ms", std::to_string(s["hand_to_setpoint_delay_ms"].get<double>()));
+  // The transfer's filters delay the set-point (the moving average alone is 2.5 ms): not the grid's edge, 0.
+  EXPECT_GT(s["hand_to_setpoint_delay_ms"].get<double>(), 10.0);
   EXPECT_LE(s["hand_to_setpoint_delay_ms"].get<double>(), 50.0);
+  EXPECT_GT(s["hand_to_setpoint_delay_correlation"].get<double>(), 0.9);
+  EXPECT_GT(s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0.5);
+  // The replay reads the caps from the log's header: the same figure.
+  EXPECT_EQ(replayed.summary["hand_to_setpoint_delay_ms"], s["hand_to_setpoint_delay_ms"]);
 }
 
 INSTANTIATE_TEST_SUITE_P(Caps, FastHandAtShippedCaps,

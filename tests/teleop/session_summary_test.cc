@@ -2,6 +2,8 @@
 // set-points the follower refused, by reason, and the ticks at which the measured joints broke a limit.
 #include "src/teleop/session_summary.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace robossis::teleop {
@@ -66,6 +68,54 @@ TEST(SessionSummaryTest, AHugeValueStaysOneShortCell) {
   const std::string row = csv.substr(csv.find('\n') + 1);
   EXPECT_NE(row.find(",1.0000000000000001e+300,"), std::string::npos) << row;
   EXPECT_LT(row.size(), 400u) << row;
+}
+
+
+// The summary's hand-to-set-point delay: leader records at 1 kHz whose set-point displacement is the ideal one
+// delayed by 40 ms, with a Rebase (both displacements held at zero, as while the robot does not follow) in the
+// middle. The delay is found; where eq. 11 capped the hand (scale < 1) on most ticks, the figure is null and the
+// status says why; with no set-points at all, too few samples.
+LeaderTickRecord DelayRecord(int k, double delay_s, bool rebased, double scale) {
+  auto motion = [](double t) {
+    return t <= 0 ? 0.0 : 0.004 * (1 - std::cos(2.1 * t)) + 0.0015 * (1 - std::cos(5.3 * t)) + 0.001 * t * t;
+  };
+  LeaderTickRecord r;
+  r.t_ns = 1'000'000LL * k;
+  r.sent_this_tick = 1;
+  r.scale_linear = scale;
+  const double t = 1e-3 * k;
+  // After the rebase at 3 s (held until 3.2 s) both restart from zero.
+  const double t0 = t >= 3.2 ? 3.2 : 0.0;
+  if (!rebased) {
+    r.ideal_disp[0] = motion(t) - motion(t0);
+    r.transfer_disp[0] = motion(t - delay_s) - motion(t0 - delay_s);
+  }
+  return r;
+}
+
+TEST(SessionSummaryTest, TheHandToSetPointDelayRespectsResetsAndTheCap) {
+  constexpr double kDelay = 0.040;
+  SessionSummary ok(SummaryOptions{});
+  SessionSummary capped(SummaryOptions{});
+  for (int k = 0; k <= 6000; ++k) {
+    const bool rebased = k >= 3000 && k < 3200;
+    ok.AddLeader(DelayRecord(k, kDelay, rebased, 1.0));
+    capped.AddLeader(DelayRecord(k, kDelay, rebased, k % 10 == 0 ? 1.0 : 0.5));  // capped 90 % of the time
+  }
+  const auto s = ok.Summary();
+  ASSERT_EQ(s.at("hand_to_setpoint_delay_status"), "ok");
+  EXPECT_NEAR(s.at("hand_to_setpoint_delay_ms").get<double>(), 1e3 * kDelay, 1.0);
+  EXPECT_GT(s.at("hand_to_setpoint_delay_judged_fraction").get<double>(), 0.9);
+  EXPECT_LT(s.at("hand_to_setpoint_delay_judged_fraction").get<double>(), 0.99);  // the rebased ticks are not judged
+
+  const auto c = capped.Summary();
+  EXPECT_TRUE(c.at("hand_to_setpoint_delay_ms").is_null());
+  EXPECT_EQ(c.at("hand_to_setpoint_delay_status"), "cap_binds");
+
+  const auto none = SessionSummary(SummaryOptions{}).Summary();
+  EXPECT_TRUE(none.at("hand_to_setpoint_delay_ms").is_null());
+  EXPECT_EQ(none.at("hand_to_setpoint_delay_status"), "too_few_samples");
+  EXPECT_EQ(none.at("hand_to_setpoint_delay_judged_fraction"), 0.0);
 }
 
 }  // namespace
