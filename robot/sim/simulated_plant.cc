@@ -50,6 +50,7 @@ void SimulatedPlant::Command(const robot::RsrJointCommand& command) noexcept {
   if (enabled_) command_.Publish(command);
 }
 
+// The time is not used: the plant steps on its own clock, and the measurement carries the physics time it was made at.
 void SimulatedPlant::Service(double) noexcept {
   robot::RsrFollowerState measured;
   if (!measured_.ReadNewer(measured, measured_version_)) return;

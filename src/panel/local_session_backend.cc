@@ -82,11 +82,7 @@ std::vector<std::string> LocalSessionBackend::Start() {
   leader_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, leader_task_, leader);
   std::vector<rt::PeriodicLoop*> loops = {leader_loop_.get(), follower_loop_.get()};
   if (plant_.task != nullptr) {
-    rt::LoopOptions plant;
-    plant.name = "panel plant";
-    plant.period_ns = plant_.period_ns;
-    plant.fifo_priority = rt::kPlantLoopFifoPriority;
-    plant_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, *plant_.task, plant);
+    plant_loop_ = std::make_unique<rt::PeriodicLoop>(*clock, *plant_.task, rt::PlantLoopOptions(plant_.period_ns, "panel plant"));
     loops.push_back(plant_loop_.get());
   }
   const std::int64_t start_ns = std::llround(clock->NowS() * 1e9) + leader.period_ns;  // on the clock

@@ -61,18 +61,6 @@ const char* ToString(DelayStatus status) {
   return "unknown";
 }
 
-std::vector<Vector6d> VelocityOf(std::span<const double> t, std::span<const Vector6d> x) {
-  const std::size_t n = std::min(t.size(), x.size());
-  std::vector<Vector6d> v(n, Vector6d::Zero());
-  if (n < 2) return v;
-  for (std::size_t j = 0; j < n; ++j) {
-    const std::size_t a = j == 0 ? 0 : j - 1, b = j + 1 == n ? j : j + 1;
-    const double span = t[b] - t[a];
-    if (span > 0) v[j] = (x[b] - x[a]) / span;
-  }
-  return v;
-}
-
 std::vector<int> RebaseSegments(std::span<const Vector6d> ideal, std::span<const Vector6d> setpoint) {
   std::vector<int> segment(ideal.size(), 0);
   int id = 0;

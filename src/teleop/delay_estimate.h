@@ -86,9 +86,6 @@ struct DelayEstimate {
   }
 };
 
-// Central differences of a displacement series [p; theta] sampled at increasing times `t` (one-sided at the ends).
-std::vector<Vector6d> VelocityOf(std::span<const double> t, std::span<const Vector6d> x);
-
 // Segment ids of a transfer's displacement series (the ideal and the set-point at the same ticks): a new segment
 // wherever either is exactly zero (the transfer was rebased, or has not moved since). A run of such samples is one
 // segment each, so they have no velocity and are not judged; the first sample after it is differenced from zero,

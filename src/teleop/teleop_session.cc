@@ -214,11 +214,7 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     tasks.push_back({follower->unit.get(), o});
     // Ticked after the follower unit when both are due, as the robot moves after the command reached it.
     if (const robot::Follower::Plant plant = follower->back_end->plant(); plant.task != nullptr) {
-      rt::LoopOptions p;
-      p.name = "plant";
-      p.period_ns = plant.period_ns;
-      p.fifo_priority = rt::kPlantLoopFifoPriority;
-      tasks.push_back({plant.task, p});
+      tasks.push_back({plant.task, rt::PlantLoopOptions(plant.period_ns)});
     }
   }
 

@@ -54,6 +54,17 @@ double Percentile(std::vector<double>& v, double p) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
 }
 
+// The translational speed of a displacement series [p; theta] at each sample (the one rate estimator's central
+// differences).
+std::vector<double> TranslationalSpeeds(const std::vector<double>& t, const std::vector<Vector6d>& x) {
+  std::vector<double> p;
+  for (const Vector6d& x_k : x) p.insert(p.end(), x_k.data(), x_k.data() + 3);
+  const std::vector<double> v = RatesWithinSegments(t, p, 3);
+  std::vector<double> speed(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) speed[k] = Eigen::Vector3d(&v[3 * k]).norm();
+  return speed;
+}
+
 const TeleopSetup& Setup() {
   static const robot::RsrModel rsr = robot::RsrModel::Default();
   static const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
@@ -121,11 +132,7 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
     follower_loop.fifo_priority = 81;
     std::vector<rt::ScheduledTask> tasks = {{&leader, leader_loop}, {&follower, follower_loop}};
     if (const robot::Follower::Plant plant = back_end->plant(); plant.task != nullptr) {
-      rt::LoopOptions plant_loop;
-      plant_loop.name = "plant";
-      plant_loop.period_ns = plant.period_ns;
-      plant_loop.fifo_priority = rt::kPlantLoopFifoPriority;
-      tasks.push_back({plant.task, plant_loop});
+      tasks.push_back({plant.task, rt::PlantLoopOptions(plant.period_ns)});
     }
     const rt::RunResult run = rt::RunRealTime(clock, tasks, duration_s, drain);
     drain(0);
@@ -219,16 +226,16 @@ void BM_TransferFilterDelay(benchmark::State& state) {
     const double v_goal = (goal[n - 1] - goal[n - 2]).head<3>().norm() / 1e-3;
     lag_ms = v_goal > 0 ? 1e3 * (goal[n - 1] - disp[n - 1]).head<3>().norm() / v_goal : 0;
     // The step's 50 % point: the goal's velocity, then the set-point's, first at half the final speed.
-    const std::vector<Vector6d> v_set = VelocityOf(t, disp), v_goal_series = VelocityOf(t, goal);
-    const auto first_half = [&](const std::vector<Vector6d>& v) {
+    const std::vector<double> v_set = TranslationalSpeeds(t, disp), v_goal_series = TranslationalSpeeds(t, goal);
+    const auto first_half = [&](const std::vector<double>& v) {
       for (std::size_t k = 0; k < n; ++k) {
-        if (v[k].head<3>().norm() >= 0.5 * v_goal) return t[k];
+        if (v[k] >= 0.5 * v_goal) return t[k];
       }
       return t.back();
     };
     rise_ms = 1e3 * (first_half(v_set) - first_half(v_goal_series));
     overshoot = 0;
-    for (const Vector6d& v : v_set) overshoot = std::max(overshoot, v.head<3>().norm() / v_goal - 1.0);
+    for (const double v : v_set) overshoot = std::max(overshoot, v / v_goal - 1.0);
     benchmark::DoNotOptimize(lag_ms);
   }
   if (!estimate.ok()) state.SkipWithError((std::string("delay estimate: ") + ToString(estimate.status)).c_str());

@@ -2,6 +2,7 @@
 // signals whose delay is known by construction.
 #include "src/teleop/delay_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -114,9 +115,12 @@ TEST(DelayEstimate, TheTransfersResetsAreRespected) {
 TEST(DelayEstimate, AClippedDelayedSignalReportsTheCap) {
   constexpr double kDelay = 0.03;
   const Series ref = Sample(1000, 4.0, 0.0, true, false);
-  const std::vector<Vector6d> v_ref = VelocityOf(ref.t, ref.x);
-  double v_max = 0;
-  for (const Vector6d& v : v_ref) v_max = std::max(v_max, v.head<3>().norm());
+  std::vector<double> p_ref;
+  for (const Vector6d& x : ref.x) p_ref.insert(p_ref.end(), x.data(), x.data() + 3);
+  const std::vector<double> rates = RatesWithinSegments(ref.t, p_ref, 3);
+  std::vector<double> speed(ref.t.size());
+  for (std::size_t k = 0; k < ref.t.size(); ++k) speed[k] = Eigen::Vector3d(&rates[3 * k]).norm();
+  const double v_max = *std::max_element(speed.begin(), speed.end());
   // The delayed copy through a rate limiter (the cap guard without its filters): the set-point moves toward the
   // delayed reference at most at `cap`, so while the cap binds it falls further behind, and then catches up.
   auto clipped = [&](double cap) {
@@ -151,7 +155,7 @@ TEST(DelayEstimate, AClippedDelayedSignalReportsTheCap) {
   // The same through per-sample flags (the leader's eq. 11 scale below 1) instead of the caps.
   std::vector<std::uint8_t> capped(ref.t.size(), 0);
   for (std::size_t k = 0; k < ref.t.size(); ++k) {
-    if (v_ref[k].head<3>().norm() >= 0.2 * v_max) capped[k] = kCappedLinear;
+    if (speed[k] >= 0.2 * v_max) capped[k] = kCappedLinear;
   }
   const Series low = clipped(0.2 * v_max);
   const DelayEstimate flagged =
@@ -171,17 +175,6 @@ TEST(DelayEstimate, StatusCases) {
   for (Vector6d& x : still.x) x = Vector6d::Constant(0.01);
   EXPECT_EQ(Estimate(ref, still).status, DelayStatus::kNoMotion);
   EXPECT_STREQ(ToString(DelayStatus::kCapBinds), "cap_binds");
-}
-
-TEST(DelayEstimate, VelocityOfIsTheCentralDifference) {
-  const std::vector<double> t = {0.0, 0.1, 0.3};
-  std::vector<Vector6d> x(3, Vector6d::Zero());
-  x[1][0] = 1.0;
-  x[2][0] = 3.0;
-  const std::vector<Vector6d> v = VelocityOf(t, x);
-  EXPECT_DOUBLE_EQ(v[0][0], 10.0);
-  EXPECT_DOUBLE_EQ(v[1][0], 10.0);
-  EXPECT_DOUBLE_EQ(v[2][0], 10.0);
 }
 
 }  // namespace

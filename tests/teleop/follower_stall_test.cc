@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "robot/sim/simulated_plant.h"
 #include "robot/sim/sim_config.h"
@@ -134,6 +137,49 @@ TEST_F(FollowerStallTest, AHundredMillisecondStallOfEveryLoopNeitherFaultsNorJum
 
 TEST_F(FollowerStallTest, AHundredMillisecondStallOfThePlantAloneIsMadeUpWithoutAFault) {
   ExpectFollowedWithinTheCaps(Run(Never, InTheStall), ShippedFollowerConfig());
+}
+
+// A loaded machine's scheduling: stalls of 0.2 to 20 ms, one every 5 to 50 ms, through the whole motion (a fixed
+// seed: the same stalls every run).
+class ScheduledStalls {
+ public:
+  explicit ScheduledStalls(std::uint32_t seed) {
+    std::mt19937 random(seed);
+    std::uniform_int_distribution<std::int64_t> gap(5'000'000, 50'000'000), length(200'000, 20'000'000);
+    for (std::int64_t t = gap(random); t < 1'000'000'000; t += gap(random)) {
+      const std::int64_t end = t + length(random);
+      stalls_.push_back({t, end});
+      t = end;
+    }
+  }
+  bool operator()(std::int64_t t) const {
+    return std::any_of(stalls_.begin(), stalls_.end(), [t](const auto& s) { return t > s.first && t <= s.second; });
+  }
+
+ private:
+  std::vector<std::pair<std::int64_t, std::int64_t>> stalls_;
+};
+
+TEST_F(FollowerStallTest, AScheduleOfShortStallsOfTheFollowerLoopKeepsTheCaps) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE(seed);
+    ExpectFollowedWithinTheCaps(Run(ScheduledStalls(seed), Never), ShippedFollowerConfig());
+  }
+}
+
+TEST_F(FollowerStallTest, AScheduleOfShortStallsOfEveryLoopKeepsTheCaps) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE(seed);
+    const ScheduledStalls stalls(seed);
+    ExpectFollowedWithinTheCaps(Run(stalls, stalls), ShippedFollowerConfig());
+  }
+}
+
+TEST_F(FollowerStallTest, AScheduleOfShortStallsOfThePlantKeepsTheCaps) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE(seed);
+    ExpectFollowedWithinTheCaps(Run(Never, ScheduledStalls(seed)), ShippedFollowerConfig());
+  }
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "src/core/rt/clock.h"
@@ -43,6 +44,11 @@ struct LoopOptions {
   int fifo_priority = kHapticLoopFifoPriority;
   bool try_realtime = true;    // attempt SCHED_FIFO
 };
+
+// The loop of a robot simulated beside the controller (robot::Follower::plant()): its own period, the plant's priority.
+inline LoopOptions PlantLoopOptions(std::int64_t period_ns, std::string name = "plant") {
+  return {.name = std::move(name), .period_ns = period_ns, .fifo_priority = kPlantLoopFifoPriority};
+}
 
 // One thread ticking one task on absolute deadlines.
 class PeriodicLoop {
