@@ -166,10 +166,28 @@ void MotiveReader::ParseHeader() {
     throw std::runtime_error(where(1) + "expected 'Format Version,1.2x,...' (an OptiTrack Motive CSV export), got '" +
                              line.substr(0, 60) + "'");
   }
+  // Key/value pairs. A take's name (or notes) is free text that Motive writes unquoted, commas included: its value
+  // runs on to the next key this reader knows, so that "Take Name,Knee, left,Capture Frame Rate,120" is read as
+  // written.
   std::map<std::string, std::string> meta;
+  const auto known_key = [](const std::string& k) {
+    for (const char* key : {"format version", "take name", "take notes", "capture frame rate", "export frame rate",
+                            "capture start time", "capture start frame", "total frames in take",
+                            "total exported frames", "rotation type", "length units", "coordinate space"}) {
+      if (k == key) return true;
+    }
+    return false;
+  };
   for (std::size_t i = 0; i + 1 < fields.size(); i += 2) {
-    const std::string key(TrimField(fields[i]));
-    if (!key.empty()) meta[Lower(key)] = std::string(TrimField(fields[i + 1]));
+    const std::string key = Lower(std::string(TrimField(fields[i])));
+    std::string value(TrimField(fields[i + 1]));
+    if (key == "take name" || key == "take notes") {
+      while (i + 2 < fields.size() && !known_key(Lower(std::string(TrimField(fields[i + 2]))))) {
+        value += "," + fields[i + 2];
+        ++i;
+      }
+    }
+    if (!key.empty()) meta[key] = value;
   }
   header_.format_version = meta["format version"];
   double version = 0;
@@ -197,14 +215,15 @@ void MotiveReader::ParseHeader() {
   rate("export frame rate", header_.export_rate_hz);
   // The export rate builds the time axis: a stated rate must be plausible; only an absent one falls back to the
   // capture rate (never a stated 0 or -120 replaced silently).
-  constexpr double kMaxRateHz = 100000.0;  // above any optical tracker's frame rate
+  // The plausible rates [assumed]: no optical tracker records slower than 1 Hz or faster than 100 kHz.
+  constexpr double kMinRateHz = 1.0, kMaxRateHz = 100000.0;
   const bool export_stated = meta.count("export frame rate") && !meta["export frame rate"].empty();
   if (!export_stated) header_.export_rate_hz = header_.capture_rate_hz;
-  if (!(header_.export_rate_hz > 0 && header_.export_rate_hz <= kMaxRateHz)) {
+  if (!(header_.export_rate_hz >= kMinRateHz && header_.export_rate_hz <= kMaxRateHz)) {
     const std::string key = export_stated ? "export frame rate" : "capture frame rate";
     const std::string stated = meta.count(key) && !meta[key].empty() ? "'" + meta[key] + "'" : "missing";
     throw std::runtime_error(where(1) + "'" + (export_stated ? "Export" : "Capture") + " Frame Rate' is " + stated +
-                             "; expected a rate in (0, 100000] Hz to build the time axis");
+                             "; expected a rate in [1, 100000] Hz to build the time axis");
   }
   if (meta.count("total exported frames") && !meta["total exported frames"].empty()) {
     const std::string& stated = meta["total exported frames"];

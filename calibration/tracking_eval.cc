@@ -232,6 +232,16 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
     clock = RefineClock(track, reference, reg, clock, options.estimate_drift,
                         options.hand_eye.rotation_weight_m_per_rad, excluded);
   }
+  // The window is a promise of the options ("searched only within"): a refinement that ends outside it is not
+  // an offset within the window, and no clamped value would be the fit's.
+  if (options.offset_given && !(std::fabs(clock.offset_s - options.offset_s) <= options.offset_window_s)) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "the clock offset that fits best is %.4f s, outside the window %g s +- %g s given "
+                  "(--offset-s, --offset-window-s): widen the window or check the approximate offset",
+                  clock.offset_s, options.offset_s, options.offset_window_s);
+    throw std::runtime_error(buf);
+  }
   flag_flips(MakePairs(track, reference, clock, excluded, nullptr));  // on every frame, before the final fit
   const Pairs pairs = MakePairs(track, reference, clock, excluded, &result.excluded);
   if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after alignment");

@@ -227,6 +227,7 @@ Scenario LoadTrajectoryCsv(const std::filesystem::path& file, const HandParams& 
   spec.max_time = kMaxTrajectoryTimeS;
   spec.min_rows = 2;
   spec.max_rows = kMaxTrajectoryRows;
+  spec.max_abs = PoseColumnBounds();
   const NumericCsv csv = ReadNumericCsv(file, spec);
   auto times = std::make_shared<std::vector<double>>();
   auto poses = std::make_shared<std::vector<Vector6d>>();

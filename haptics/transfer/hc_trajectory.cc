@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "src/core/csv.h"
+#include "src/core/parse.h"
 #include "src/core/units.h"
 
 namespace robossis::transfer {
@@ -148,6 +149,7 @@ HcTrajectory ReadHcCsv(const std::filesystem::path& file) {
   spec.max_time = kMaxHcTimeS;
   spec.min_rows = 2;
   spec.max_rows = kMaxHcRows;
+  spec.max_abs = PoseColumnBounds();
   const NumericCsv csv = ReadNumericCsv(file, spec);
   const char* pose_columns[] = {"x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"};
   const int time = csv.Column("time_s"), clutch = csv.Column("clutch"), arrival = csv.Column("arrival_s");
@@ -161,14 +163,6 @@ HcTrajectory ReadHcCsv(const std::filesystem::path& file) {
     for (int i = 0; i < 6; ++i) {
       const int column = csv.Column(pose_columns[i]);
       r.pose_mm_deg[i] = row.values[column];
-      const double bound = i < 3 ? kMaxHcPositionMm : kMaxHcAngleDeg;
-      if (!(std::fabs(r.pose_mm_deg[i]) <= bound)) {
-        std::ostringstream msg;
-        msg << where << ", column " << column + 1 << " (" << pose_columns[i] << "): got '" << r.pose_mm_deg[i]
-            << "'; expected " << (i < 3 ? "a position" : "an angle") << " within +-" << bound
-            << (i < 3 ? " mm" : " deg") << " (far outside the sigma.7's workspace)";
-        throw std::runtime_error(msg.str());
-      }
     }
     r.arrival_s = arrival >= 0 ? row.values[arrival] : r.time_s;
     if (clutch >= 0) {
@@ -188,6 +182,13 @@ HcTrajectory ReadHcCsv(const std::filesystem::path& file) {
       throw std::runtime_error(msg.str());
     }
     t.records.push_back(r);
+  }
+  // Repeated stamps are repeated samples; a file of nothing else has no motion in time (the transfer would drop all
+  // but one sample as late and move nothing).
+  if (t.records.back().time_s == t.records.front().time_s) {
+    throw std::runtime_error(file.string() + ": every time_s is " + FormatNumber(t.records.front().time_s) +
+                             "; expected samples spread over time (equal stamps are allowed for a repeated sample, "
+                             "not for all of them)");
   }
   // The clean reference (for the delay) is the file in time order; delivery follows arrival order.
   t.clean_records = t.records;

@@ -31,16 +31,12 @@ struct HcTrajectory {
 // CSV with a header: time_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg[,clutch][,arrival_s] (any column order; an
 // unknown or repeated column is an error), read by the strict src/core/csv.h reader: exactly one cell per column,
 // time_s in [0, kMaxHcTimeS] and never decreasing (equal stamps are allowed: a repeated sample), arrival_s within
-// kMaxHcArrivalDelayS after time_s, |x|,|y|,|z| <= kMaxHcPositionMm, |angles| <= kMaxHcAngleDeg, 2 to kMaxHcRows
+// kMaxHcArrivalDelayS after time_s, |x|,|y|,|z| <= kMaxEdgePositionMm, |angles| <= kMaxEdgeAngleDeg, 2 to kMaxHcRows
 // rows. Throws std::runtime_error "FILE line N, column C (name): got 'V'; expected ...". The bounds keep a
 // transfer run to minutes, checked before it starts.
 inline constexpr double kMaxHcTimeS = 600.0;
 inline constexpr double kMaxHcArrivalDelayS = 10.0;
 inline constexpr std::size_t kMaxHcRows = 1'000'000;
-// Pose bounds of a row: far outside the sigma.7's workspace (~190 mm across) and any wrist angle a recording can
-// hold (ten turns), so only a corrupt or hostile file is refused; the motion transfer limits real motion itself.
-inline constexpr double kMaxHcPositionMm = 1000.0;
-inline constexpr double kMaxHcAngleDeg = 3600.0;
 HcTrajectory ReadHcCsv(const std::filesystem::path& file);
 
 // Built-in scenarios: "fig8" (a hand at ~20 mm/s with dropouts, repeats, late samples and a USB stall, as in Fig. 8),

@@ -10,6 +10,7 @@
 #include "robot/rsr_model.h"
 #include "robot/sigma7_model.h"
 #include "src/core/files.h"
+#include "src/core/parse.h"
 #include "src/core/pose.h"
 
 // CLI11 is included only by the units that add options (it costs seconds per unit to compile).
@@ -51,8 +52,10 @@ void RegisterHalCommands(CLI::App& app, const AppContext& context);
 void RegisterKeysCommands(CLI::App& app, const AppContext& context);
 void RegisterPanelCommand(CLI::App& app, const AppContext& context);
 
-// "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI. Throws std::invalid_argument naming the option.
-Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name);
+// "--pose X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG" → pose in SI, a pose in the system's workspaces unless
+// `bounds` says otherwise (a tracker's pose in its room). Throws std::invalid_argument naming the option.
+Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name,
+                                 FieldBounds bounds = FieldBounds::kWorkspace);
 
 // A numeric option checked before any work: finite and within [lo, hi] (0 is a value like any other, never "not
 // given"). Throws std::invalid_argument "--rate-hz: expected a finite number in [1, 10000] Hz, got inf".

@@ -12,9 +12,9 @@
 
 namespace robossis::apps {
 
-Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name) {
+Eigen::Isometry3d ParsePoseMmDeg(const std::string& text, const std::string& option_name, FieldBounds bounds) {
   const std::vector<double> v =
-      ParseNumberList(text, 6, option_name, "X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG");
+      ParseNumberList(text, 6, option_name, "X_MM,Y_MM,Z_MM,ROLL_DEG,PITCH_DEG,YAW_DEG", bounds);
   return PoseFromMmDeg(Eigen::Map<const Vector6d>(v.data()));
 }
 

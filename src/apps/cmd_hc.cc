@@ -44,12 +44,15 @@ void RegisterHcCommands(CLI::App& app, const AppContext& context) {
   ik->add_option("--rpy-deg", *rpy, "Handle orientation ROLL_DEG,PITCH_DEG,YAW_DEG (default 0,0,0)");
   ik->add_flag("--json", *ik_json, "Machine-readable output");
   ik->callback([&context, position, rpy, ik_json] {
-    const std::vector<double> p = ParseNumberList(*position, 3, "--position", "X_MM,Y_MM,Z_MM");
+    const std::vector<double> p = ParseNumberList(*position, 3, "--position", "X_MM,Y_MM,Z_MM", FieldBounds::kWorkspace);
     std::vector<double> r = {0, 0, 0};
-    if (!rpy->empty()) r = ParseNumberList(*rpy, 3, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG");
+    if (!rpy->empty()) r = ParseNumberList(*rpy, 3, "--rpy-deg", "ROLL_DEG,PITCH_DEG,YAW_DEG", FieldBounds::kWorkspace);
     const robot::Sigma7Model model = context.LoadSigma7();
     const Eigen::Vector3d p_O = Eigen::Vector3d(p[0], p[1], p[2]) * kMmToM;
-    const Eigen::Vector3d wrist = Eigen::Vector3d(r[0], r[1], r[2]) * kDegToRad;
+    // The range is a property of the orientation, not of the numbers given for it: 0,300,0 and 0,-60,0 are one
+    // rotation, tested as the wrist's joint angles of that rotation.
+    const Eigen::Vector3d wrist =
+        robot::WristJointsFromRotation(RotationFromRpy(Eigen::Vector3d(r[0], r[1], r[2]) * kDegToRad));
     const robot::DeltaIkResult result = robot::CalcDeltaInverseKinematics(model, p_O);
     const bool wrist_ok = robot::WristWithinRange(model, wrist);
     Print({{"reachable", result.reachable},
@@ -70,7 +73,7 @@ void RegisterHcCommands(CLI::App& app, const AppContext& context) {
   fk->add_option("--joints", *joints, "Actuated angles TH11_DEG,TH12_DEG,TH13_DEG")->required();
   fk->add_flag("--json", *fk_json, "Machine-readable output");
   fk->callback([&context, joints, fk_json] {
-    const std::vector<double> t = ParseNumberList(*joints, 3, "--joints", "TH11_DEG,TH12_DEG,TH13_DEG");
+    const std::vector<double> t = ParseNumberList(*joints, 3, "--joints", "TH11_DEG,TH12_DEG,TH13_DEG", FieldBounds::kWorkspace);
     const robot::Sigma7Model model = context.LoadSigma7();
     const robot::DeltaFkResult result =
         robot::CalcDeltaForwardKinematics(model, Eigen::Vector3d(t[0], t[1], t[2]) * kDegToRad);

@@ -129,7 +129,7 @@ void RegisterMocapCommands(CLI::App& app, const AppContext& context) {
       }
     }
     if (!known) throw std::invalid_argument("--rotation-type: expected Quaternion, XYZ, XZY, YXZ, YZX, ZXY or ZYX");
-    o.X_TF = ParsePoseMmDeg(sim->tracker_pose, "--tracker-pose");
+    o.X_TF = ParsePoseMmDeg(sim->tracker_pose, "--tracker-pose", FieldBounds::kFinite);
     o.X_MB = ParsePoseMmDeg(sim->marker_offset, "--marker-offset");
     const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(sim->reference);
     if (reference.duration_s() * sim->rate_hz > kMaxSimulatedFrames) {

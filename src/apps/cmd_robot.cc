@@ -35,6 +35,16 @@ void PrintIkText(const robot::RsrIkResult& ik) {
   }
 }
 
+// "feasible: false (outside the joint limits)" and one line per violated limit: a result computed at a pose the
+// robot cannot reach is printed, and said to be so.
+void PrintFeasibility(const json& feasibility) {
+  const bool feasible = feasibility.at("feasible").get<bool>();
+  std::cout << "feasible: " << (feasible ? "true" : "false (outside the joint limits; the result is the model's, "
+                                                    "not a pose the robot reaches)")
+            << "\n";
+  for (const auto& v : feasibility.at("violations")) std::cout << "violation: " << v.get<std::string>() << "\n";
+}
+
 struct PoseOption {
   std::string text;
   CLI::Option* Add(CLI::App* cmd) {
@@ -93,7 +103,8 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
   fk->add_flag("--json", *fk_json, "Machine-readable output");
   fk->callback([&context, fk_joints, fk_guess, fk_json] {
     const std::vector<double> v =
-        ParseNumberList(*fk_joints, 6, "--joints", "TH1_DEG,TH2_DEG,TH3_DEG,D1_MM,D2_MM,D3_MM");
+        ParseNumberList(*fk_joints, 6, "--joints", "TH1_DEG,TH2_DEG,TH3_DEG,D1_MM,D2_MM,D3_MM",
+                        FieldBounds::kWorkspace);
     robot::RsrJointVector q;
     for (int i = 0; i < kNumArms; ++i) {
       q[robot::ThetaIndex(i)] = DegToRad(v[i]);
@@ -107,11 +118,13 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
     const Eigen::Isometry3d guess =
         fk_guess->empty() ? model.geometry().X_FM_home : ParsePoseMmDeg(*fk_guess, "--guess");
     const robot::RsrFkResult result = robot::CalcForwardKinematics(model, q, guess);
-    const json doc = RsrFkJson(result);
+    json doc = RsrFkJson(result);
+    if (result.converged()) doc.update(RsrFeasibilityJson(robot::CalcInverseKinematics(model, result.X_FM)));
     if (*fk_json) {
       PrintJson(doc);
     } else {
-      PrintKeyValues(doc);
+      PrintKeyValues(RsrFkJson(result));
+      if (result.converged()) PrintFeasibility(doc);
     }
     if (!result.converged()) throw std::runtime_error("forward kinematics did not converge (" +
                                                       std::string(robot::ToString(result.status)) + ")");
@@ -129,12 +142,14 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
     const Matrix6d J = robot::CalcJacobian(model, X_FM);
     json doc = RsrJacobianJson(J);
     RequireFiniteResult(doc, "robot jacobian --pose " + jac_pose->text);
-    doc["feasible"] = robot::CalcInverseKinematics(model, X_FM).feasible;
+    const json feasibility = RsrFeasibilityJson(robot::CalcInverseKinematics(model, X_FM));
+    doc.update(feasibility);
     if (*jac_json) {
       PrintJson(doc);
     } else {
       std::cout << "rows: theta_1..3 (rad/s), d_1..3 (m/s); columns: v (m/s), omega (rad/s), in the fixed frame\n"
                 << J << "\n";
+      PrintFeasibility(feasibility);
     }
   });
 
@@ -158,12 +173,15 @@ void RegisterRobotCommands(CLI::App& app, const AppContext& context) {
     const robot::RsrModel model = context.LoadRsr();
     const robot::RsrStaticsResult result = robot::CalcActuatorEfforts(model, X_FM, wrench);
     if (result.singular) throw std::runtime_error("--pose: the Jacobian is singular there; no static solution");
-    const json doc = RsrStaticsJson(result);
+    json doc = RsrStaticsJson(result);
     RequireFiniteResult(doc, "robot statics --pose " + st_pose->text);
+    const json feasibility = RsrFeasibilityJson(robot::CalcInverseKinematics(model, X_FM));
+    doc.update(feasibility);
     if (*st_json) {
       PrintJson(doc);
     } else {
-      PrintKeyValues(doc);
+      PrintKeyValues(RsrStaticsJson(result));
+      PrintFeasibility(feasibility);
     }
   });
 }

@@ -179,8 +179,8 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
                 spd_deg_opt] {
     const OutputPolicy output = context.Output();
     output.CheckFolder("--out", mv_options->out);
-    const std::vector<double> dp = ParseNumberList(*delta_mm, 3, "--delta-mm", "DX_MM,DY_MM,DZ_MM");
-    const std::vector<double> dr = ParseNumberList(*delta_deg, 3, "--delta-deg", "RX_DEG,RY_DEG,RZ_DEG");
+    const std::vector<double> dp = ParseNumberList(*delta_mm, 3, "--delta-mm", "DX_MM,DY_MM,DZ_MM", FieldBounds::kWorkspace);
+    const std::vector<double> dr = ParseNumberList(*delta_deg, 3, "--delta-deg", "RX_DEG,RY_DEG,RZ_DEG", FieldBounds::kWorkspace);
     transfer::TimedMoveRequest req;
     req.delta_p_F = MmToM(1.0) * Eigen::Vector3d(dp[0], dp[1], dp[2]);
     req.delta_rot_F = DegToRad(1.0) * Eigen::Vector3d(dr[0], dr[1], dr[2]);
@@ -204,7 +204,8 @@ void RegisterTransferCommands(CLI::App& app, const AppContext& context) {
                                                               spd_deg_opt->count() > 0 ? DegToRad(*speed_deg) : inf);
       if (duration_s == 0) throw std::invalid_argument("move: --delta-mm and --delta-deg are both zero: nothing to move");
     } else if (!(std::isfinite(duration_s) && duration_s > 0)) {
-      throw std::invalid_argument("--duration-s: expected a positive duration, got " + Num(duration_s));
+      throw std::invalid_argument("--duration-s: expected a finite duration in (0, " + Num(kMaxMoveDurationS) +
+                                  "] s, got " + Num(duration_s));
     }
     if (!(duration_s <= kMaxMoveDurationS)) {
       throw std::invalid_argument("move: the move lasts " + Num(duration_s) + " s; at most " +

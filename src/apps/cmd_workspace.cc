@@ -27,7 +27,7 @@ using json = nlohmann::ordered_json;
 
 Eigen::Vector3d ParseTriple(const std::string& text, const std::string& option, const std::string& hint,
                             double to_si) {
-  const std::vector<double> v = ParseNumberList(text, 3, option, hint);
+  const std::vector<double> v = ParseNumberList(text, 3, option, hint, FieldBounds::kWorkspace);
   return Eigen::Vector3d(v[0], v[1], v[2]) * to_si;
 }
 

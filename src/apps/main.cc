@@ -3,9 +3,9 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <iostream>
 #include <new>
 #include <string>
-#include <iostream>
 
 #include <CLI/CLI.hpp>
 
@@ -13,6 +13,35 @@
 #include "src/apps/cmd_teleop.h"
 #include "src/core/config.h"
 #include "robossis_version.h"  // generated: ROBOSSIS_VERSION, ROBOSSIS_GIT_REVISION
+
+namespace {
+
+// "unknown command 'bogus' for 'robossis robot'; expected one of: info, ik, ...", where CLI11 would only say "A
+// subcommand is required": the deepest command the parse reached, and the word it did not know. Empty if the
+// parse left no such word.
+std::string UnknownCommandMessage(CLI::App& app) {
+  CLI::App* reached = &app;
+  std::string path = app.get_name();
+  while (!reached->get_subcommands().empty()) {
+    reached = reached->get_subcommands().front();
+    path += " " + reached->get_name();
+  }
+  std::string word;
+  for (CLI::App* a = reached; a != nullptr && word.empty(); a = a->get_parent()) {
+    for (const std::string& r : a->remaining()) {
+      if (!r.empty() && r.front() != '-') {
+        word = r;
+        break;
+      }
+    }
+  }
+  if (word.empty()) return "";
+  std::string known;
+  for (const CLI::App* sub : reached->get_subcommands({})) known += (known.empty() ? "" : ", ") + sub->get_name();
+  return "unknown command '" + word + "' for '" + path + "'; expected one of: " + known;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace robossis;
@@ -50,6 +79,9 @@ int main(int argc, char** argv) {
     // A bad option is an input error like any other: one line naming the option and what was expected
     // ("--days: Value 0 not in range 1 to 36500"), exit 1, not CLI11's own exit codes (105, 106, 109...).
     std::string message = e.what();
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+      if (const std::string unknown = UnknownCommandMessage(app); !unknown.empty()) message = unknown;
+    }
     for (char& c : message) {
       if (c == '\n') c = ' ';
     }

@@ -59,6 +59,14 @@ std::string ViolationText(const robot::RsrLimitCheck& c) {
   return buf;
 }
 
+json RsrFeasibilityJson(const robot::RsrIkResult& ik) {
+  json violations = json::array();
+  for (const robot::RsrLimitCheck& c : ik.checks) {
+    if (c.margin < 0) violations.push_back(ViolationText(c));
+  }
+  return {{"feasible", ik.feasible}, {"violations", violations}};
+}
+
 json RsrIkJson(const robot::RsrIkResult& ik) {
   json violations = json::array(), limits = json::array();
   for (const robot::RsrLimitCheck& c : ik.checks) {

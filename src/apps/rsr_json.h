@@ -12,6 +12,9 @@ namespace robossis::apps {
 nlohmann::ordered_json RsrInfoJson(const robot::RsrModel& model);
 nlohmann::ordered_json RsrIkJson(const robot::RsrIkResult& ik);
 nlohmann::ordered_json RsrFkJson(const robot::RsrFkResult& fk);
+// {"feasible": ..., "violations": ["arm 1 stroke = ...", ...]}: whether a pose the result was computed at is inside the
+// joint limits (cones included), for the results that are defined outside them as well (FK, Jacobian, statics).
+nlohmann::ordered_json RsrFeasibilityJson(const robot::RsrIkResult& ik);
 nlohmann::ordered_json RsrJacobianJson(const Matrix6d& J);
 nlohmann::ordered_json RsrStaticsJson(const robot::RsrStaticsResult& statics);
 

@@ -1,6 +1,8 @@
 #include "src/core/csv.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -101,6 +103,8 @@ NumericCsv ParseNumericCsv(std::string_view text, const std::string& name, const
   bool have_header = false;
   int time_index = -1;
   double previous_time = 0.0;
+  std::string previous_time_text;
+  std::vector<double> bound;  // per column of the header: |value| <= bound
   while (!rest.empty()) {
     const std::size_t eol = rest.find('\n');
     std::string_view line = rest.substr(0, eol);
@@ -154,6 +158,10 @@ NumericCsv ParseNumericCsv(std::string_view text, const std::string& name, const
       }
       out.header = header;
       time_index = spec.time_column.empty() ? -1 : out.Column(spec.time_column);
+      bound.assign(header.size(), std::numeric_limits<double>::infinity());
+      for (const auto& [column, max_abs] : spec.max_abs) {
+        if (const int i = out.Column(column); i >= 0) bound[static_cast<std::size_t>(i)] = max_abs;
+      }
       have_header = true;
       continue;
     }
@@ -188,11 +196,22 @@ NumericCsv ParseNumericCsv(std::string_view text, const std::string& name, const
         }
         if (!out.rows.empty() && (spec.allow_equal_times ? t < previous_time : !(t > previous_time))) {
           throw std::runtime_error(cell_where + "; expected a time " +
-                                   (spec.allow_equal_times ? "not before " : "greater than ") +
-                                   Number(previous_time) + " (the previous row's): times must " +
+                                   (spec.allow_equal_times ? "not before " : "greater than ") + previous_time_text +
+                                   " (the previous row's): times must " +
                                    (spec.allow_equal_times ? "not decrease" : "increase strictly"));
         }
         previous_time = t;
+        previous_time_text = std::string(TrimField(cells[c]));  // the bound as the file wrote it
+      }
+      if (!(std::fabs(row.values[c]) <= bound[c])) {
+        const std::string& name = out.header[c];
+        const auto unit = [&](const std::string& u) {
+          return name.size() > u.size() && name.compare(name.size() - u.size(), u.size(), u) == 0;
+        };
+        throw std::runtime_error(cell_where + "; expected " +
+                                 (unit("_mm")    ? "a position within +-" + Number(bound[c]) + " mm"
+                                  : unit("_deg") ? "an angle within +-" + Number(bound[c]) + " deg"
+                                                 : "a value within +-" + Number(bound[c])));
       }
     }
     out.rows.push_back(std::move(row));
@@ -209,6 +228,11 @@ NumericCsv ParseNumericCsv(std::string_view text, const std::string& name, const
                              std::to_string(spec.min_rows) + " in a " + spec.what);
   }
   return out;
+}
+
+std::vector<std::pair<std::string, double>> PoseColumnBounds() {
+  return {{"x_mm", kMaxEdgePositionMm},   {"y_mm", kMaxEdgePositionMm},    {"z_mm", kMaxEdgePositionMm},
+          {"roll_deg", kMaxEdgeAngleDeg}, {"pitch_deg", kMaxEdgeAngleDeg}, {"yaw_deg", kMaxEdgeAngleDeg}};
 }
 
 int NumericCsv::Column(const std::string& name) const {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "src/core/files.h"  // ReadBoundedFile, the one opener of input files
@@ -34,7 +35,13 @@ struct CsvSpec {
   double min_time = 0.0;
   double max_time = 86'400.0;                 // one day, in the unit of the column
   bool comment_lines = false;                 // lines starting with '#' (after blanks) are skipped, header included
+  // Columns whose values are bounded, |value| <= bound (name, bound in the column's unit); absent columns ignored.
+  std::vector<std::pair<std::string, double>> max_abs;
 };
+
+// The bounds of a pose's columns x_mm, y_mm, z_mm, roll_deg, pitch_deg, yaw_deg (kMaxEdgePositionMm,
+// kMaxEdgeAngleDeg), for CsvSpec::max_abs.
+std::vector<std::pair<std::string, double>> PoseColumnBounds();
 
 struct CsvRow {
   int line = 0;                // 1-based line in the file

@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "src/core/staging_cleanup.h"
+
 namespace robossis {
 
 namespace fs = std::filesystem;
@@ -266,9 +268,11 @@ StagedOutputDir::StagedOutputDir(fs::path target, const OutputPolicy& policy, st
     throw std::runtime_error(option_ + ": " + Quoted(target_) + ": cannot create the staging folder " +
                              Quoted(staging_) + ": " + ec.message());
   }
+  cleanup_slot_ = RegisterStagingDir(staging_);
 }
 
 StagedOutputDir::~StagedOutputDir() {
+  UnregisterStagingDir(cleanup_slot_);
   if (!committed_) {
     std::error_code ignored;
     fs::remove_all(staging_, ignored);

@@ -75,7 +75,8 @@ void WriteOutputFile(const OutputPolicy& policy, const std::filesystem::path& pa
 // A folder of outputs built in a staging folder beside the target (`DIR.partial-PID`). Commit() replaces the
 // target whole with the staging folder (the old target is moved aside and removed), so no stale file of an earlier
 // run is left beside the new ones. If Commit() is never reached (an error, an exception), the destructor removes
-// the staging folder, so the target never holds a partial result.
+// the staging folder, so the target never holds a partial result; so does an interrupt (SIGINT, SIGTERM: see
+// staging_cleanup.h).
 //
 // The target may be missing, empty, or an earlier output (it holds the kOutputMarker file that Commit() writes);
 // any other non-empty folder is refused unless the policy's replace_any (the CLI's --force), so a mistyped --out
@@ -104,6 +105,7 @@ class StagedOutputDir {
   std::filesystem::path target_;
   std::string option_;
   std::filesystem::path staging_;
+  int cleanup_slot_ = -1;  // staging_cleanup.h: removed on SIGINT/SIGTERM
   bool committed_ = false;
 };
 

@@ -40,8 +40,21 @@ double ParseNumber(std::string_view text, const std::string& option_name) {
   return v;
 }
 
+namespace {
+// The hint's comma-separated field names ("X_MM,Y_MM,..."); empty names where the hint has fewer than `count`.
+std::vector<std::string_view> SplitFieldNames(std::string_view hint, std::size_t count) {
+  std::vector<std::string_view> names(count);
+  for (std::size_t i = 0; i < count && !hint.empty(); ++i) {
+    const std::size_t comma = hint.find(',');
+    names[i] = hint.substr(0, comma);
+    hint = comma == std::string_view::npos ? std::string_view() : hint.substr(comma + 1);
+  }
+  return names;
+}
+}  // namespace
+
 std::vector<double> ParseNumberList(std::string_view text, std::size_t count, const std::string& option_name,
-                                    const std::string& format_hint) {
+                                    const std::string& format_hint, FieldBounds bounds) {
   std::vector<std::string_view> fields;
   std::size_t start = 0;
   while (true) {
@@ -56,11 +69,23 @@ std::vector<double> ParseNumberList(std::string_view text, std::size_t count, co
     throw std::invalid_argument(option_name + ": " + expected + ", got " + std::to_string(fields.size()) + " in '" +
                                 std::string(text) + "'");
   }
+  const std::vector<std::string_view> names = SplitFieldNames(format_hint, count);
   std::vector<double> out(count);
   for (std::size_t i = 0; i < count; ++i) {
     if (!TryParseNumber(fields[i], &out[i])) {
       throw std::invalid_argument(option_name + ": " + expected + "; value " + std::to_string(i + 1) + " is '" +
                                   std::string(fields[i]) + "', not a finite number");
+    }
+    if (bounds == FieldBounds::kFinite) continue;
+    const auto ends_with = [&](std::string_view unit) {
+      return names[i].size() > unit.size() && names[i].substr(names[i].size() - unit.size()) == unit;
+    };
+    const char* what = ends_with("_MM") ? "a position" : ends_with("_DEG") ? "an angle" : nullptr;
+    const double bound = ends_with("_MM") ? kMaxEdgePositionMm : kMaxEdgeAngleDeg;
+    if (what != nullptr && !(std::fabs(out[i]) <= bound)) {
+      throw std::invalid_argument(option_name + ": " + std::string(names[i]) + " is '" +
+                                  std::string(TrimField(fields[i])) + "'; expected " + what + " within +-" +
+                                  FormatNumber(bound) + (ends_with("_MM") ? " mm" : " deg"));
     }
   }
   return out;

@@ -200,13 +200,29 @@ TEST_F(HostileMotiveTest, WrongLengthUnitsFailThePlausibilityCheck) {
 TEST_F(HostileMotiveTest, HeaderThatLiesIsRefused) {
   ExpectError(Eval(Edited("v99.csv", "Format Version,1.23", "Format Version,9.9")), "'Format Version' is 9.9");
   ExpectError(Eval(Edited("rate0.csv", "Export Frame Rate,120.000000", "Export Frame Rate,0")),
-              "'Export Frame Rate' is '0'; expected a rate in (0, 100000] Hz");
+              "'Export Frame Rate' is '0'; expected a rate in [1, 100000] Hz");
   ExpectError(Eval(Edited("rate-120.csv", "Export Frame Rate,120.000000", "Export Frame Rate,-120")),
               "'Export Frame Rate' is '-120'");
   const std::size_t type_row = take_.find("\n,Type,");
   ASSERT_NE(type_row, std::string::npos);
   const std::size_t end = take_.find('\n', type_row + 1);
   ExpectError(Eval(Write("no_type.csv", take_.substr(0, type_row) + take_.substr(end))), "is the Type row missing?");
+}
+
+TEST_F(HostileMotiveTest, ARateNoTrackerHasIsRefusedNamingTheRate) {
+  // 1e-300 Hz is positive, but no tracker's: refused as the rate, not blamed on a time cell 300 digits long.
+  ExpectError(Eval(Edited("rate_tiny.csv", "Export Frame Rate,120.000000", "Export Frame Rate,1e-300")),
+              "'Export Frame Rate' is '1e-300'; expected a rate in [1, 100000] Hz");
+}
+
+TEST_F(HostileMotiveTest, ATakeNameWithACommaIsReadAsWritten) {
+  // Motive writes the take's name unquoted: "Take Name,Knee, left,Capture Frame Rate,..." keeps its pairs.
+  const std::size_t at = take_.find("Take Name,");
+  ASSERT_NE(at, std::string::npos);
+  std::string t = take_;
+  t.insert(at + std::string("Take Name,").size(), "Knee, left ");
+  const CommandRun run = Eval(Write("comma.csv", t));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
 }
 
 TEST_F(HostileMotiveTest, NanAndGarbageCellsAreNotOcclusions) {
