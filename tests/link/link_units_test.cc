@@ -268,13 +268,23 @@ TEST(LinkUnitsTest, ALeaderThatCannotAuthenticateExitsWithTheCauseAndTheRightOne
     EXPECT_NE(log.find("handshake was refused"), std::string::npos) << log;
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "rogue" / "summary.json"));
   }
+  const auto start = std::chrono::steady_clock::now();
   ChildProcess leader = Leader(dir.path(), "leader", 2);
+  const char* accepted = "follower authenticated and heard after ";
+  const bool heard = testing::WaitFor(
+      [&] {
+        std::this_thread::sleep_for(10ms);
+        return ReadTextFile(dir.path() / "leader.log").find(accepted) != std::string::npos;
+      },
+      120s);
+  const double since_start_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ExpectExitZero(leader, dir.path() / "leader.log");
   StopFollower(follower, dir.path() / "follower.log");
   const std::string log = ReadTextFile(dir.path() / "leader.log");
-  const auto at = log.find("follower authenticated and heard after ");
-  ASSERT_NE(at, std::string::npos) << log;
-  std::cout << "figures: the right leader after the rogue: " << log.substr(at, log.find('\n', at) - at) << "\n";
+  ASSERT_TRUE(heard) << log;
+  const auto at = log.find(accepted);
+  std::cout << "figures: the right leader after the rogue: accepted " << since_start_s
+            << " s after its process started (" << log.substr(at, log.find('\n', at) - at) << ")\n";
   EXPECT_GT(Summary(dir.path() / "follower")["setpoints_accepted"].get<int>(), 0);
 }
 
