@@ -83,8 +83,8 @@ void DdsLeaderLink::WaitForFollower(double peer_wait_s, double heard_wait_s) con
                                (options_.keys_dir / "ca_cert.pem").string() + "), or ours not by its CA: give " +
                                "both units folders of the same `robossis keys init`");
     }
-    throw std::runtime_error(where + "no peer answered (is `robossis follower` running with the same --domain, " +
-                             "reachable by --interface/--peer" + (options_.insecure ? ", also --insecure)" : ")"));
+    throw std::runtime_error(where + "no peer answered (is `robossis follower` running on the same --domain, " +
+                             "reachable through --interface and --peer" + (options_.insecure ? ", and with --insecure too?)" : "?)"));
   }
   if (!wait_until(heard_wait_s, [&] { return Statistics().state_received > 0; })) {
     std::snprintf(seconds, sizeof seconds, "%.1f", heard_wait_s);

@@ -146,6 +146,7 @@ TEST(DdsLink, RealTimeCallsAllocateNothing) {
   rt::MonotonicClock clock;
   DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
   DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  DdsLeaderLink panel(LoopbackOptions(Role::kPanel));
   std::uint64_t seq = 0;
   ASSERT_TRUE(StreamUntilAccepted(leader, follower, clock, 5, seq, 5));
   teleop::SetPointMessage sp;
@@ -160,7 +161,8 @@ TEST(DdsLink, RealTimeCallsAllocateNothing) {
     follower.PublishStatus(st);
     leader.TakeFollowerStatus(st);
   }
-  leader.SendCommand(cmd);
+  leader.SendCommand(cmd);  // refused: no command writer
+  panel.SendCommand(cmd);   // queued for the panel's send thread
   EXPECT_EQ(counter.count(), 0u);
 }
 
