@@ -1,5 +1,6 @@
 // `robossis keys init DIR`: the credentials of the secured leader-follower link (src/link/keys.h).
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -14,8 +15,10 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
   CLI::App* keys = app.add_subcommand("keys", "Credentials of the secured DDS link (DDS Security): init");
   keys->require_subcommand(1);
   CLI::App* init = keys->add_subcommand(
-      "init", "Make a CA, identities for leader, follower and panel, signed governance and permissions (openssl)\n"
-              "Example: robossis keys init ~/robossis-keys    (then copy it to both machines; keep ca_key.pem safe)");
+      "init", "Make a CA, identities for leader, follower and panel, signed governance and permissions (openssl):\n"
+              "one folder per role (DIR/leader, DIR/follower, DIR/panel) and the CA apart (DIR/ca)\n"
+              "Example: robossis keys init ~/robossis-keys    (copy only DIR/leader to the leader PC, DIR/follower to "
+              "the robot PC; store DIR/ca offline)");
   auto dir = std::make_shared<std::string>();
   auto options = std::make_shared<link::KeysInitOptions>();
   init->add_option("DIR", *dir, "New or empty folder for the credentials")->required();
@@ -24,8 +27,14 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
       ->capture_default_str();
   init->callback([dir, options] {
     link::InitKeys(*dir, *options);
-    std::cout << "credentials for leader, follower and panel written to " << *dir
-              << " (private keys mode 0600; ca_key.pem signs new permissions: keep it off the robot)\n";
+    const std::filesystem::path d = *dir;
+    std::cout << "credentials written to " << d.string() << " (private keys mode 0600), one folder per unit:\n"
+              << "  " << (d / "leader").string() << "    copy to the leader PC only: --keys DIR/leader\n"
+              << "  " << (d / "follower").string() << "  copy to the robot PC only: --keys DIR/follower\n"
+              << "  " << (d / "panel").string() << "     copy to the panel's machine only: --keys DIR/panel\n"
+              << "  " << (d / link::kCaFolder).string()
+              << "        the CA's key: move it OFFLINE now (never on a unit; needed only to sign new credentials)\n"
+              << "valid for " << options->validity_days << " days\n";
   });
 }
 

@@ -2,7 +2,9 @@
 // `robossis leader` and `robossis follower` (the same units as two processes over the DDS link, on one machine or
 // two), and `robossis replay` (a session log back into CSV, summary and figures). Parse, call, print.
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -39,11 +41,11 @@ void PrintOutcome(const char* what, const nlohmann::ordered_json& s, const std::
             << out << "\n";
 }
 
-// The options `robossis teleop --link dds` hands on to the two processes (the caller checked them).
+// The options `robossis teleop --link dds` hands on to both processes (the caller checked them; each gets its own
+// credentials folder of --keys: TwoProcessRequest::keys_dir).
 std::vector<std::string> LinkArgs(const link::LinkOptions& l) {
   std::vector<std::string> a;
   if (l.insecure) a.push_back("--insecure");
-  else a.insert(a.end(), {"--keys", l.keys_dir.string()});
   a.insert(a.end(), {"--domain", std::to_string(l.domain_id), "--interface", l.network_interface});
   for (const std::string& p : l.peers) a.insert(a.end(), {"--peer", p});
   return a;
@@ -97,6 +99,7 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       r.program = SelfExecutable();
       r.global_args = {"--data-dir", context.data_dir.string()};
       r.link_args = LinkArgs(o->link_options);
+      if (!o->link_options.insecure) r.keys_dir = o->link_options.keys_dir;
       r.leader_args = {"--device", o->device, "--method", inputs.request.method, "--rate-hz",
                        std::to_string(o->rate_hz)};
       if (!o->atlas.empty()) r.leader_args.insert(r.leader_args.end(), {"--atlas", o->atlas});
@@ -146,7 +149,8 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
   AddTeleopOptions(*cmd, *o, TeleopUnits::kLeader);
   AddLinkOptions(*cmd, o->link_options);
   cmd->add_option("--wait-for-follower-s", o->wait_for_follower_s,
-                  "How long to wait for the follower to be heard before the loop starts")
+                  "How long to wait for an authenticated follower's state before the loop starts (no follower "
+                  "authenticated at all: the leader exits after link.yaml's discovery.peer_wait_s or --duration-s)")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   cmd->callback([o, &context] {
@@ -156,12 +160,13 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
     TeleopInputs inputs(context, *o, true);
     StagedOutputDir out(o->out, output);
     inputs.LoadAtlasIfNeeded(*o, out.staging());
+    o->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
     link::DdsLeaderLink link(o->link_options);
-    if (!link.WaitForFollower(o->wait_for_follower_s)) {
-      throw std::runtime_error("no follower heard on DDS domain " + std::to_string(o->link_options.domain_id) +
-                               " within --wait-for-follower-s " + std::to_string(o->wait_for_follower_s) +
-                               " s (is `robossis follower` running with the same --domain, --peer and keys?)");
-    }
+    const auto wait_start = std::chrono::steady_clock::now();
+    // No follower authenticated within peer_wait_s (link.yaml), never longer than --duration-s: exit with the cause.
+    link.WaitForFollower(std::min(o->link_options.tuning.peer_wait_s, o->duration_s), o->wait_for_follower_s);
+    std::cerr << "leader: follower authenticated and heard after "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count() << " s\n";
     StopOnSignals();
     teleop::TeleopOutputs outputs =
         teleop::RunLeader(inputs.request, inputs.setup, link, out.Path("session.rlog"), &g_stop);
@@ -197,6 +202,7 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
     inputs.request.enable_at_start = !o->no_enable;
     StagedOutputDir out(o->out, output);
     rt::MonotonicClock clock;
+    o->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
     link::DdsFollowerLink link(o->link_options, clock);
     StopOnSignals();
     teleop::TeleopOutputs outputs =

@@ -36,7 +36,8 @@ void WriteLinkSection(DemoContext& demo) {
   r.global_args = {"--data-dir", demo.app.data_dir.string()};
   // A domain outside the tests' (1..200) and the default (42), so the demo never meets another session on this host.
   const int domain = 201 + ::getpid() % 29;
-  r.link_args = {"--keys", keys.string(), "--domain", std::to_string(domain)};
+  r.link_args = {"--domain", std::to_string(domain)};
+  r.keys_dir = keys;  // each process gets its own folder of it
   // As section 8: the fast hand, proxy-safe walls, the Bullet follower, caps raised to 100 mm/s and 20 deg/s.
   const std::vector<std::string> caps = {"--max-speed-mm-s", "100", "--max-angular-speed-deg-s", "20"};
   r.leader_args = {"--device", "replay:" + (demo.app.data_dir / "teleop" / "fast_hand.csv").string(), "--method",

@@ -8,7 +8,8 @@
 namespace robossis::apps {
 
 void AddLinkOptions(CLI::App& command, link::LinkOptions& options) {
-  command.add_option("--keys", options.keys_dir, "Credentials folder made by `robossis keys init DIR`");
+  command.add_option("--keys", options.keys_dir, "This unit's credentials: DIR/<unit> of `robossis keys init DIR` (DIR/leader, DIR/follower, DIR/panel); "
+                     "`teleop --link dds` takes DIR itself");
   command.add_flag("--insecure", options.insecure,
                    "Run WITHOUT DDS Security (lab bench only: anyone on the network can read and command the robot)");
   command.add_option("--domain", options.domain_id, "DDS domain on the wire (both units must agree)")
@@ -27,8 +28,8 @@ void CheckLinkOptions(const link::LinkOptions& options, std::ostream& err) {
     return;
   }
   if (options.keys_dir.empty()) {
-    throw std::invalid_argument("--keys: expected the credentials folder made by `robossis keys init DIR` "
-                                "(or --insecure on a lab bench)");
+    throw std::invalid_argument("--keys: expected this unit's credentials folder made by `robossis keys init DIR` "
+                                "(DIR/leader, DIR/follower or DIR/panel; or --insecure on a lab bench)");
   }
 }
 

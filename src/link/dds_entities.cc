@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <mutex>
 #include <stdexcept>
 
 #include "robossis_link.h"
@@ -74,6 +76,43 @@ dds_qos_t* CreateTopicQos(Topic topic, const LinkTuning& tuning) {
   return q;
 }
 
+namespace {
+// Cyclone reports a refused handshake only in its log (no status or listener says why a remote participant was not
+// matched), so the link keeps the last such line. Process-wide: the line's domain id is not set by the security
+// plugins (it reads as garbage in 0.10.2), so a participant takes the lines logged since it was created. The sink
+// writes every line to stderr as Cyclone's default sink does. Cyclone's threads call it, never a real-time loop.
+struct HandshakeLog {
+  std::mutex mutex;
+  std::uint64_t count = 0;  // refused handshakes logged so far
+  std::string last;
+};
+HandshakeLog& Handshakes() {
+  static HandshakeLog log;
+  return log;
+}
+void LogSink(void*, const dds_log_data_t* data) {
+  std::fwrite(data->message, 1, data->size, stderr);
+  if (data->size == 0 || data->message[data->size - 1] != '\n') std::fputc('\n', stderr);
+  std::fflush(stderr);
+  std::string text(data->message, data->size);
+  if (text.find("handshake") == std::string::npos || text.find("fail") == std::string::npos) return;
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  HandshakeLog& log = Handshakes();
+  const std::lock_guard<std::mutex> lock(log.mutex);
+  ++log.count;
+  log.last = text;
+}
+void InstallLogSink() {
+  static std::once_flag once;
+  std::call_once(once, [] { dds_set_log_sink(&LogSink, nullptr); });
+}
+std::uint64_t HandshakeFailuresSoFar() {
+  HandshakeLog& log = Handshakes();
+  const std::lock_guard<std::mutex> lock(log.mutex);
+  return log.count;
+}
+}  // namespace
+
 dds_entity_t Check(dds_entity_t rc, const char* what) {
   if (rc < 0) throw std::runtime_error(std::string(what) + ": " + dds_strretcode(rc));
   return rc;
@@ -87,6 +126,8 @@ int NextLocalDomainId() {
 
 DdsParticipant::DdsParticipant(const LinkOptions& options) : options_(options) {
   const auto properties = SecurityProperties(options);  // throws on missing credentials, before any DDS entity
+  InstallLogSink();
+  handshake_failures_before_ = HandshakeFailuresSoFar();
   const int local = NextLocalDomainId();
   const std::string config = BuildCycloneConfig(options, local);
   domain_ = Check(dds_create_domain(static_cast<dds_domainid_t>(local), config.c_str()), "DDS domain");
@@ -104,6 +145,12 @@ DdsParticipant::DdsParticipant(const LinkOptions& options) : options_(options) {
 DdsParticipant::~DdsParticipant() {
   if (participant_ > 0) dds_delete(participant_);
   if (domain_ > 0) dds_delete(domain_);
+}
+
+std::string DdsParticipant::HandshakeFailure() const {
+  HandshakeLog& log = Handshakes();
+  const std::lock_guard<std::mutex> lock(log.mutex);
+  return log.count > handshake_failures_before_ ? log.last : std::string();
 }
 
 dds_entity_t DdsParticipant::TopicHandle(Topic topic) {

@@ -31,12 +31,18 @@ class DdsParticipant {
   DdsParticipant& operator=(const DdsParticipant&) = delete;
 
   dds_entity_t participant() const { return participant_; }
+  // The last DDS Security handshake Cyclone refused since this participant was created ("" if none): its log line,
+  // for example "Begin handshake reply failed: Certificate not valid: error: certificate signature failure; subject:
+  // /C=US/O=Robossis/CN=follower(code: 200)" (the subject is the certificate it refused). Process-wide: with several
+  // participants in one process (tests) it may be another's.
+  std::string HandshakeFailure() const;
   dds_entity_t CreateWriter(Topic topic);
   dds_entity_t CreateReader(Topic topic);  // with DATA_AVAILABLE in its status mask
 
  private:
   dds_entity_t TopicHandle(Topic topic);
   LinkOptions options_;
+  std::uint64_t handshake_failures_before_ = 0;
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_entity_t topics_[5] = {};

@@ -25,7 +25,8 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
       js_writer_(dds_.CreateWriter(Topic::kMeasuredJs)),
       state_writer_(dds_.CreateWriter(Topic::kOperatingState)),
       freshness_(Ns(options.tuning.setpoint_max_age_s), Ns(options.tuning.session_takeover_s),
-                 options.tuning.clock_drift_allowance) {
+                 options.tuning.clock_drift_allowance),
+      command_filter_(Ns(options.tuning.command_max_age_s), options.tuning.clock_drift_allowance) {
   if (options.role != Role::kFollower) throw std::runtime_error("DdsFollowerLink: the role must be follower");
   Check(dds_set_status_mask(setpoint_reader_, DDS_DATA_AVAILABLE_STATUS | DDS_REQUESTED_DEADLINE_MISSED_STATUS |
                                                   DDS_LIVELINESS_CHANGED_STATUS),
@@ -72,6 +73,8 @@ FollowerLinkStatistics DdsFollowerLink::Statistics() const noexcept {
   s.rejected_invalid = counters_.invalid.load();
   s.commands_received = counters_.commands.load();
   s.commands_dropped = counters_.commands_dropped.load();
+  s.commands_replayed = counters_.commands_replayed.load();
+  s.commands_stale = counters_.commands_stale.load();
   s.status_published = counters_.status.load();
   s.deadline_missed = counters_.deadline.load();
   s.leaders_alive = counters_.alive.load();
@@ -133,16 +136,19 @@ void DdsFollowerLink::TakeCommands() {
     if (n <= 0) return;
     for (int i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
+      const std::int64_t arrival = Ns(clock_.NowS());
       counters_.commands.fetch_add(1, std::memory_order_relaxed);
-      const auto* w = static_cast<const robossis_msgs_msg_dds__StateCommand_*>(samples[i]);
       teleop::StateCommandMessage m;
-      if (!ParseCommandName(w->command, m.command)) {
+      if (!FromWire(*static_cast<const robossis_msgs_msg_dds__StateCommand_*>(samples[i]), m)) {
         counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
         continue;
       }
-      m.sequence = w->seq;
-      m.stamp_ns = w->stamp_ns;
-      m.source = w->source;
+      // Only the panel's credentials can publish here (access control); this drops what it sent before again.
+      switch (command_filter_.Check(m, arrival)) {
+        case CommandFreshness::kAccepted: break;
+        case CommandFreshness::kReplayed: counters_.commands_replayed.fetch_add(1, std::memory_order_relaxed); continue;
+        case CommandFreshness::kStale: counters_.commands_stale.fetch_add(1, std::memory_order_relaxed); continue;
+      }
       if (!commands_.TryPush(m)) counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
     }
     dds_return_loan(command_reader_, samples, n);

@@ -13,6 +13,7 @@
 #include "src/core/rt/clock.h"
 #include "src/core/rt/snapshot.h"
 #include "src/core/rt/spsc_queue.h"
+#include "src/link/command_freshness.h"
 #include "src/link/dds_entities.h"
 #include "src/link/link_statistics.h"
 #include "src/link/setpoint_freshness.h"
@@ -53,6 +54,7 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   dds_entity_t cp_writer_, js_writer_, state_writer_;
   dds_entity_t waitset_ = 0, stop_guard_ = 0;
   SetPointFreshness freshness_;
+  CommandFilter command_filter_;  // receive thread only
 
   rt::Snapshot<SetPointArrival> setpoint_;
   std::uint64_t setpoint_version_taken_ = 0;  // caller's thread only
@@ -63,7 +65,8 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   std::atomic<bool> stop_{false};
   struct Counters {
     std::atomic<std::uint64_t> received{0}, accepted{0}, stale{0}, replayed{0}, session{0}, invalid{0};
-    std::atomic<std::uint64_t> commands{0}, commands_dropped{0}, status{0}, deadline{0};
+    std::atomic<std::uint64_t> commands{0}, commands_dropped{0}, commands_replayed{0}, commands_stale{0};
+    std::atomic<std::uint64_t> status{0}, deadline{0};
     std::atomic<std::uint32_t> alive{0};
   } counters_;
   std::thread receive_thread_, send_thread_;

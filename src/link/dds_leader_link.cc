@@ -1,6 +1,8 @@
 #include "src/link/dds_leader_link.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <thread>
 
@@ -11,9 +13,10 @@ namespace robossis::link {
 
 DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dds_(options) {
   if (options.role == Role::kFollower) throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
-  // A panel holds no set-point permission: it gets no set-point writer (and could not create one).
+  // Each role gets the writers its permissions grant (keys.cc, TopicsOf), and could create no other: the leader
+  // sends set-points only, the panel state commands only (enable, reset, home: never the leader's to give).
   if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);
-  command_writer_ = dds_.CreateWriter(Topic::kStateCommand);
+  if (options.role == Role::kPanel) command_writer_ = dds_.CreateWriter(Topic::kStateCommand);
   cp_reader_ = dds_.CreateReader(Topic::kMeasuredCp);
   js_reader_ = dds_.CreateReader(Topic::kMeasuredJs);
   state_reader_ = dds_.CreateReader(Topic::kOperatingState);
@@ -40,7 +43,7 @@ void DdsLeaderLink::SendSetPoint(const teleop::SetPointMessage& message) noexcep
 }
 
 bool DdsLeaderLink::SendCommand(const teleop::StateCommandMessage& message) noexcept {
-  if (!commands_.TryPush(message)) {
+  if (command_writer_ == 0 || !commands_.TryPush(message)) {
     counters_.refused.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
@@ -52,14 +55,42 @@ bool DdsLeaderLink::TakeFollowerStatus(teleop::FollowerStatusMessage& message) n
   return status_.ReadNewer(message, status_version_taken_);
 }
 
-bool DdsLeaderLink::WaitForFollower(double timeout_s) const {
-  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (std::chrono::steady_clock::now() < until) {
-    const LeaderLinkStatistics s = Statistics();
-    if ((s.followers_matched > 0 || options_.role == Role::kPanel) && s.state_received > 0) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+std::uint32_t DdsLeaderLink::FollowersMatched() const noexcept {
+  dds_subscription_matched_status_t matched;
+  return dds_get_subscription_matched_status(state_reader_, &matched) == DDS_RETCODE_OK ? matched.current_count : 0;
+}
+
+void DdsLeaderLink::WaitForFollower(double peer_wait_s, double heard_wait_s) const {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto wait_until = [&](double s, auto&& done) {
+    const auto until = start + std::chrono::duration<double>(s);
+    while (!done()) {
+      if (Clock::now() >= until) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  };
+  char seconds[32];
+  if (!wait_until(std::min(peer_wait_s, heard_wait_s), [&] { return FollowersMatched() > 0; })) {
+    std::snprintf(seconds, sizeof seconds, "%.1f", std::min(peer_wait_s, heard_wait_s));
+    const std::string where = "no follower authenticated on DDS domain " + std::to_string(options_.domain_id) +
+                              " within " + seconds + " s: ";
+    const std::string refused = dds_.HandshakeFailure();
+    if (!options_.insecure && !refused.empty()) {
+      throw std::runtime_error(where + "a DDS Security handshake was refused (Cyclone: \"" + refused + "\"): the " +
+                               "peer's certificate is not signed by this unit's CA (" +
+                               (options_.keys_dir / "ca_cert.pem").string() + "), or ours not by its CA: give " +
+                               "both units folders of the same `robossis keys init`");
+    }
+    throw std::runtime_error(where + "no peer answered (is `robossis follower` running on the same --domain, " +
+                             "reachable through --interface and --peer" + (options_.insecure ? ", and with --insecure too?)" : "?)"));
   }
-  return false;
+  if (!wait_until(heard_wait_s, [&] { return Statistics().state_received > 0; })) {
+    std::snprintf(seconds, sizeof seconds, "%.1f", heard_wait_s);
+    throw std::runtime_error("a follower was authenticated on DDS domain " + std::to_string(options_.domain_id) +
+                             " but its operating state was not heard within " + seconds + " s");
+  }
 }
 
 LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
@@ -93,12 +124,7 @@ void DdsLeaderLink::SendLoop() {
     teleop::StateCommandMessage c;
     while (commands_.TryPop(c)) {
       robossis_msgs_msg_dds__StateCommand_ w{};
-      w.header.stamp = ToTime(c.stamp_ns);
-      w.header.frame_id = frame_id;
-      w.command = const_cast<char*>(CommandName(c.command));
-      w.seq = c.sequence;
-      w.stamp_ns = c.stamp_ns;
-      w.source = c.source;
+      ToWire(c, frame_id, w);
       if (dds_write(command_writer_, &w) == DDS_RETCODE_OK) counters_.commands.fetch_add(1, std::memory_order_relaxed);
     }
   }

@@ -27,17 +27,21 @@ class DdsLeaderLink final : public teleop::LeaderLink {
   // One producer thread only (the leader's loop): the newest set-point is handed over through a seqlock.
   void SendSetPoint(const teleop::SetPointMessage& message) noexcept override;
   bool TakeFollowerStatus(teleop::FollowerStatusMessage& message) noexcept override;
-  // One producer thread only (the commands go through a single-producer queue): the leader's loop, or the panel's.
+  // The panel only (one producer thread: the commands go through a single-producer queue). The leader's
+  // credentials do not grant state_command, so a leader link has no command writer: false, counted as refused.
   bool SendCommand(const teleop::StateCommandMessage& message) noexcept override;
 
   LeaderLinkStatistics Statistics() const noexcept;
-  // Not real-time: waits until a follower's set-point reader is matched and its operating state has arrived (so that
-  // the first set-points and commands are not sent into the void). False after `timeout_s`.
-  bool WaitForFollower(double timeout_s) const;
+  // Not real-time: waits until a follower is matched (which, secured, means authenticated and allowed by access
+  // control) within `peer_wait_s`, then until its operating state has arrived, `heard_wait_s` after the start at
+  // the latest (so that the first set-points are not sent into the void). Throws std::runtime_error with one line
+  // naming the cause: no peer at all, a handshake Cyclone refused (its reason), or a follower that stays silent.
+  void WaitForFollower(double peer_wait_s, double heard_wait_s) const;
 
  private:
   void ReceiveLoop();
   void SendLoop();
+  std::uint32_t FollowersMatched() const noexcept;  // the follower's operating_state writers matched now
 
   LinkOptions options_;
   DdsParticipant dds_;

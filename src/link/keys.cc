@@ -56,12 +56,18 @@ RoleTopics TopicsOf(Role role, const std::string& ns) {  // WireTopicName valida
   o.topic_namespace = ns;
   auto n = [&](Topic t) { return WireTopicName(o, t); };
   const std::vector<std::string> status = {n(Topic::kMeasuredCp), n(Topic::kMeasuredJs), n(Topic::kOperatingState)};
+  // Who may command is decided here, by DDS Security access control on the follower (never by a field in the
+  // message): the leader sends set-points only; enable, reset, home and disable are the panel's (the robot-side
+  // console commands its follower without the network).
+  RoleTopics topics;
   switch (role) {
-    case Role::kLeader: return {{n(Topic::kSetPoint), n(Topic::kStateCommand)}, status};
-    case Role::kFollower: return {status, {n(Topic::kSetPoint), n(Topic::kStateCommand)}};
-    case Role::kPanel: return {{n(Topic::kStateCommand)}, status};
+    case Role::kLeader: topics = {{n(Topic::kSetPoint)}, status}; break;
+    case Role::kFollower: topics = {status, {n(Topic::kSetPoint), n(Topic::kStateCommand)}}; break;
+    case Role::kPanel: topics = {{n(Topic::kStateCommand)}, status}; break;
   }
-  return {};
+  // E-STOP TOPIC: every role may publish it, the follower subscribes:
+  // (role == Role::kFollower ? topics.subscribe : topics.publish).push_back(n(Topic::kEStop));
+  return topics;
 }
 
 std::string GovernanceXml() {
@@ -175,16 +181,58 @@ void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options) 
                s, log, "sign the " + r + " permissions");
   }
   std::filesystem::remove(log);
-  for (const auto& entry : std::filesystem::directory_iterator(s)) {
+  // One bundle per role with only what that unit needs, and the CA (its key signs new credentials) apart.
+  namespace fs = std::filesystem;
+  for (Role role : kRoles) {
+    const std::string r = ToString(role);
+    fs::create_directory(s / r);
+    for (const char* shared : {"ca_cert.pem", "governance.p7s", "governance.xml"}) fs::copy_file(s / shared, s / r / shared);
+    for (const std::string own : {"_cert.pem", "_key.pem", "_permissions.p7s", "_permissions.xml"}) {
+      fs::rename(s / (r + own), s / r / (r + own));
+    }
+  }
+  fs::create_directory(s / kCaFolder);
+  for (const char* ca : {"ca_cert.pem", "ca_key.pem", "governance.p7s", "governance.xml"}) {
+    fs::rename(s / ca, s / kCaFolder / ca);
+  }
+  out.Write(std::string(kCaFolder) + "/README.txt",
+            "This folder holds the CA's private key (ca_key.pem): whoever has it can make credentials that command\n"
+            "the robot. Store it offline (an encrypted removable drive in a locked place), never on the leader PC,\n"
+            "the robot PC or the panel. It is needed only to sign new credentials.\n");
+  for (const auto& entry : fs::recursive_directory_iterator(s)) {
     const bool secret = entry.path().filename().string().find("_key.pem") != std::string::npos;
-    std::filesystem::permissions(entry.path(),
-                                 secret ? std::filesystem::perms::owner_read | std::filesystem::perms::owner_write
-                                        : std::filesystem::perms::owner_read | std::filesystem::perms::owner_write |
-                                              std::filesystem::perms::group_read | std::filesystem::perms::others_read,
-                                 std::filesystem::perm_options::replace);
+    fs::permissions(entry.path(),
+                    entry.is_directory() ? fs::perms::owner_all
+                    : secret             ? fs::perms::owner_read | fs::perms::owner_write
+                                         : fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
+                                               fs::perms::others_read,
+                    fs::perm_options::replace);
   }
   out.Commit();
-  std::filesystem::permissions(dir, std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
+  fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace);
+}
+
+void CheckCredentialBundle(const std::filesystem::path& bundle, Role role) {
+  namespace fs = std::filesystem;
+  const std::string where = "--keys " + bundle.string() + ": ";
+  if (fs::exists(bundle / "ca_key.pem")) {
+    throw std::runtime_error(where + "holds ca_key.pem, the CA's private key: move it off this machine and keep it "
+                             "offline (with the `" + std::string(kCaFolder) + "/` folder of `robossis keys init`)");
+  }
+  for (Role other : kRoles) {
+    const std::string key = std::string(ToString(other)) + "_key.pem";
+    if (other != role && fs::exists(bundle / key)) {
+      throw std::runtime_error(where + "holds " + key + ", the " + ToString(other) + "'s private key: the " +
+                               ToString(role) + " needs only its own bundle (the `" + ToString(role) +
+                               "/` folder of `robossis keys init`); remove " + key + " from this machine");
+    }
+  }
+  const fs::path key = bundle / (std::string(ToString(role)) + "_key.pem");
+  const fs::perms others = fs::perms::group_all | fs::perms::others_all;
+  if (fs::exists(key) && (fs::status(key).permissions() & others) != fs::perms::none) {
+    throw std::runtime_error("--keys " + key.string() + ": the private key is accessible to group or others: run "
+                             "`chmod 600 " + key.string() + "`");
+  }
 }
 
 }  // namespace robossis::link

@@ -2,8 +2,10 @@
 // The credentials of the secured link (DDS Security: authentication, access control, cryptography), made with the
 // `openssl` command line: one CA (identity and permissions CA), an identity certificate and key for the leader, the
 // follower and the control panel, a signed governance document that authenticates and encrypts everything, and a
-// signed permissions document per participant that grants it only its own topics. Private keys are mode 0600 and
-// the folder 0700.
+// signed permissions document per participant that grants it only its own topics. Each role gets a bundle of its
+// own (`leader/`, `follower/`, `panel/`: its key and certificate, the CA certificate, the signed governance and its
+// own signed permissions); the CA's key is kept apart (`ca/`), to be stored offline. Private keys are mode 0600, the
+// folders 0700.
 
 #include <filesystem>
 #include <string>
@@ -22,7 +24,9 @@ struct KeysInitOptions {
   // The participants use kTopicNamespace; another namespace makes credentials no participant can use, so the
   // command line does not offer it. Checked by ValidateTopicNamespace.
   std::string topic_namespace = kTopicNamespace;
-  int validity_days = 3650;  // 1 to kMaxValidityDays
+  // 1 to kMaxValidityDays. One year [assumed]: a lost or copied credential stops working within a year, and a
+  // yearly renewal (a new `keys init`) is a routine maintenance step.
+  int validity_days = 365;
   // Goes into every certificate subject (`/O=...`): letters, digits, space, '.', '_' and '-' only, so it can add no
   // subject field of its own ('/', '=', '+', ',').
   std::string organisation = "Robossis";
@@ -45,9 +49,16 @@ std::string GovernanceXml();
 std::string PermissionsXml(Role role, const std::string& subject_name, const std::string& topic_namespace,
                            const std::string& not_before, const std::string& not_after);
 
-// Makes the credentials in `dir` (which must not exist or be empty). The options are checked
+// The folder of `dir` that holds the CA (certificate, key, governance): never copied to a unit.
+inline constexpr char kCaFolder[] = "ca";
+
+// Makes the credentials in `dir` (which must not exist or be empty): dir/ca, dir/leader, dir/follower, dir/panel. The options are checked
 // (ValidateKeysInitOptions) before anything is written; everything is made in a staging folder and moved in only
 // when complete. Throws std::runtime_error naming the openssl step that failed.
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
+
+// Refuses (std::runtime_error naming the file and the fix) a role's credentials folder that holds the CA's key or
+// another role's key, or whose private key group or others may access. Called before the participant is made.
+void CheckCredentialBundle(const std::filesystem::path& bundle, Role role);
 
 }  // namespace robossis::link

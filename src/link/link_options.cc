@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "src/core/config.h"
+#include "src/link/keys.h"
 
 namespace robossis::link {
 
@@ -32,6 +33,8 @@ LinkTuning LinkTuning::FromConfig(const ConfigNode& root) {
   t.max_angular_speed_rad_per_s = sp.PositiveNumber("max_angular_speed_rad_per_s");
   t.quaternion_norm_tolerance = sp.NumberInRange("quaternion_norm_tolerance", 0.0, 0.5);
   t.status_state_period_s = root.Child("status").PositiveNumber("state_period_s");
+  t.command_max_age_s = root.Child("command").PositiveNumber("max_age_s");
+  t.peer_wait_s = root.Child("discovery").PositiveNumber("peer_wait_s");
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   return t;
 }
@@ -107,9 +110,11 @@ std::vector<std::pair<std::string, std::string>> SecurityProperties(const LinkOp
   for (const auto& f : files) {
     if (!std::filesystem::exists(f)) {
       throw std::runtime_error("--keys " + d.string() + ": missing " + f.filename().string() +
-                               " (made by `robossis keys init " + d.string() + "`)");
+                               " (expected the " + role + "'s folder made by `robossis keys init DIR`: DIR/" + role +
+                               ")");
     }
   }
+  CheckCredentialBundle(d, o.role);
   const std::filesystem::path plugins = SecurityPluginDir();
   return {
       {"dds.sec.auth.library.path", (plugins / "libdds_security_auth.so").string()},

@@ -31,6 +31,8 @@ struct LinkTuning {
   double max_angular_speed_rad_per_s = 10.0; // |omega| bound
   double quaternion_norm_tolerance = 1e-3;   // | |q| - 1 | bound
   double status_state_period_s = 0.100;      // operating_state is also re-sent at this period (its counters move)
+  double command_max_age_s = 1.0;            // older state commands are dropped (command_freshness.h)
+  double peer_wait_s = 10.0;                 // a leader that authenticates no follower this long exits
 
   static LinkTuning FromYaml(const std::filesystem::path& file);
   // The same from a document already loaded (ConfigNode::Load): one parse read by several loaders.
@@ -63,7 +65,8 @@ struct LinkOptions {
   int max_auto_participant_index = 20;
   // The address advertised to the peers instead of the interface's (a relay or NAT in between); empty: none.
   std::string external_address;
-  // Credentials made by `robossis keys init DIR`; empty and insecure = false is an error.
+  // This role's credentials: the DIR/<role> folder `robossis keys init DIR` makes (only this role's key in it, no
+  // CA key, the key mode 0600: CheckCredentialBundle). Empty and insecure = false is an error.
   std::filesystem::path keys_dir;
   bool insecure = false;  // a lab bench without DDS Security (the caller says so loudly)
   // Topics are rt/<namespace>/<name> (ROS 2's "rt/" prefix for topics).
@@ -76,7 +79,7 @@ struct LinkOptions {
 std::string BuildCycloneConfig(const LinkOptions& options, int local_domain_id);
 
 // The DDS Security participant properties (name, value) for the role's credentials in options.keys_dir.
-// Throws std::runtime_error naming the missing file. Empty when options.insecure.
+// Throws std::runtime_error naming the missing or misplaced file (CheckCredentialBundle). Empty when insecure.
 std::vector<std::pair<std::string, std::string>> SecurityProperties(const LinkOptions& options);
 
 // Where the DDS Security plugins are (Debian ships them in libddsc0debian/, outside the loader's path).

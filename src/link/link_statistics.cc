@@ -9,6 +9,7 @@ nlohmann::ordered_json ToJson(const FollowerLinkStatistics& s) {
           {"dropped_stale", s.dropped_stale},           {"dropped_replayed", s.dropped_replayed},
           {"dropped_session", s.dropped_session},       {"rejected_invalid", s.rejected_invalid},
           {"commands_received", s.commands_received},   {"commands_dropped", s.commands_dropped},
+          {"commands_replayed", s.commands_replayed},   {"commands_stale", s.commands_stale},
           {"status_published", s.status_published},     {"deadline_missed", s.deadline_missed},
           {"leaders_alive", s.leaders_alive}};
 }

@@ -39,6 +39,7 @@ std::vector<std::string> UnitArgs(const TwoProcessRequest& r, const char* unit, 
   args.push_back(unit);
   args.insert(args.end(), own.begin(), own.end());
   args.insert(args.end(), r.link_args.begin(), r.link_args.end());
+  if (!r.keys_dir.empty()) args.insert(args.end(), {"--keys", (r.keys_dir / unit).string()});
   for (const std::string& a : {std::string("--duration-s"), Seconds(duration_s), std::string("--out"), out.string(),
                                std::string("--no-plots")}) {
     args.push_back(a);

@@ -15,7 +15,8 @@ namespace robossis::link {
 struct TwoProcessRequest {
   std::filesystem::path program;          // this program (SelfExecutable())
   std::vector<std::string> global_args;   // options before the subcommand (--data-dir DIR)
-  std::vector<std::string> link_args;     // both units: --keys DIR | --insecure, --domain N, --interface, --peer
+  std::vector<std::string> link_args;     // both units: --insecure (or keys_dir), --domain N, --interface, --peer
+  std::filesystem::path keys_dir;         // made by `keys init`: each unit gets its own folder (--keys DIR/<unit>)
   std::vector<std::string> leader_args;   // `robossis leader` only: --device, --method, --rate-hz, caps
   std::vector<std::string> follower_args; // `robossis follower` only: --follower, caps
   double duration_s = 10;                 // the leader's run time

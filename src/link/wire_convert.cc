@@ -85,6 +85,25 @@ bool ParseCommandName(const char* name, teleop::StateCommand& c) noexcept {
   return false;
 }
 
+void ToWire(const teleop::StateCommandMessage& m, char* frame_id, robossis_msgs_msg_dds__StateCommand_& w) noexcept {
+  w.header.stamp = ToTime(m.stamp_ns);
+  w.header.frame_id = frame_id;
+  w.command = const_cast<char*>(CommandName(m.command));
+  w.session = m.session;
+  w.seq = m.sequence;
+  w.stamp_ns = m.stamp_ns;
+  w.source = m.source;
+}
+
+bool FromWire(const robossis_msgs_msg_dds__StateCommand_& w, teleop::StateCommandMessage& m) noexcept {
+  if (!ParseCommandName(w.command, m.command)) return false;
+  m.session = w.session;
+  m.sequence = w.seq;
+  m.stamp_ns = w.stamp_ns;
+  m.source = w.source;
+  return true;
+}
+
 const char* OperatingStateName(teleop::OperatingState s) noexcept {
   for (const auto& e : kStates) {
     if (e.state == s) return e.name;

@@ -20,6 +20,10 @@ void FromWire(const robossis_msgs_msg_dds__SetPoint_& w, teleop::SetPointMessage
 // CRTK command strings: "enable", "disable", "home", "estop", "reset". False for anything else.
 const char* CommandName(teleop::StateCommand c) noexcept;
 bool ParseCommandName(const char* name, teleop::StateCommand& c) noexcept;
+// Command ↔ StateCommand_ (the command string points at static storage, the header's frame id at `frame_id`).
+// FromWire is false for an unknown command string.
+void ToWire(const teleop::StateCommandMessage& m, char* frame_id, robossis_msgs_msg_dds__StateCommand_& w) noexcept;
+bool FromWire(const robossis_msgs_msg_dds__StateCommand_& w, teleop::StateCommandMessage& m) noexcept;
 // CRTK operating-state strings ("DISABLED", "ENABLED", "PAUSED", "FAULT", plus this project's states).
 const char* OperatingStateName(teleop::OperatingState s) noexcept;
 bool ParseOperatingStateName(const char* name, teleop::OperatingState& s) noexcept;

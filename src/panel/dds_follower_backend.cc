@@ -1,5 +1,7 @@
 #include "src/panel/dds_follower_backend.h"
 
+#include <random>
+
 #include "src/link/dds_leader_link.h"
 
 namespace robossis::panel {
@@ -8,9 +10,16 @@ namespace {
 constexpr const char* kNoSetPoints =
     "the panel's link credentials grant state commands only, not set-points: the leader moves the robot";
 
+// A random session per panel start, so the follower tells a restarted panel's commands (sequence 1 again) from a
+// replay of the old ones.
+std::uint64_t DrawCommandSession() {
+  std::random_device entropy;
+  return (static_cast<std::uint64_t>(entropy()) << 32) | entropy();
+}
+
 }  // namespace
 
-DdsFollowerBackend::DdsFollowerBackend(link::LinkOptions options) {
+DdsFollowerBackend::DdsFollowerBackend(link::LinkOptions options) : command_session_(DrawCommandSession()) {
   options.role = link::Role::kPanel;
   link_ = std::make_unique<link::DdsLeaderLink>(options);
 }
@@ -42,7 +51,9 @@ bool DdsFollowerBackend::ReadHandWrench(HandWrench& wrench) noexcept {
 bool DdsFollowerBackend::ReadCommandedPose(Eigen::Isometry3d&) noexcept { return false; }
 
 bool DdsFollowerBackend::SendCommand(teleop::StateCommand command) noexcept {
-  return link_->SendCommand(PanelStateCommand(command, ++command_sequence_, clock_.NowS()));
+  teleop::StateCommandMessage message = PanelStateCommand(command, ++command_sequence_, clock_.NowS());
+  message.session = command_session_;
+  return link_->SendCommand(message);
 }
 
 JogVerdict DdsFollowerBackend::PreviewJog(const JogRequest&) {

@@ -34,7 +34,7 @@ class DdsFollowerBackend final : public PanelBackend {
   bool ReadHealth(LoopHealth& health) noexcept override;
   bool ReadHandWrench(HandWrench& wrench) noexcept override;              // zero: no hand at the panel
   bool ReadCommandedPose(Eigen::Isometry3d& X_FM) noexcept override;      // false: the set-points are not granted
-  bool SendCommand(teleop::StateCommand command) noexcept override;       // source 2, panel
+  bool SendCommand(teleop::StateCommand command) noexcept override;       // source 2, panel; its session, next sequence, stamp
   JogVerdict PreviewJog(const JogRequest& request) override;              // refused
   JogVerdict StartJog(const JogRequest& request) override;                // refused
   void StopJog() noexcept override {}
@@ -46,6 +46,7 @@ class DdsFollowerBackend final : public PanelBackend {
   bool has_status_ = false;
   teleop::FollowerStatusMessage status_;
   double status_arrival_s_ = -1;
+  std::uint64_t command_session_;  // drawn at start: the follower drops a replayed or stale command of a session
   std::uint64_t command_sequence_ = 0;
 };
 

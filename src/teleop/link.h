@@ -17,7 +17,8 @@ class LeaderLink {
   virtual void SendSetPoint(const SetPointMessage& message) noexcept = 0;
   // The newest follower status not yet taken; false if none arrived since the last call.
   virtual bool TakeFollowerStatus(FollowerStatusMessage& message) noexcept = 0;
-  // The leader's own commands (E-stop on a device failure, enable on presence). False if the link refused it.
+  // A state command to the follower. Over DDS only the panel's credentials grant it (a leader's link refuses it:
+  // false); the leader unit sends none. False if the link refused it.
   virtual bool SendCommand(const StateCommandMessage& message) noexcept = 0;
 };
 

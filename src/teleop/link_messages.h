@@ -60,14 +60,15 @@ struct SetPointMessage {
   std::uint8_t flags = 0;           // kSetPointClutched | kSetPointPresence
 };
 
-// Who sent a state command: carried on the wire (one byte) so that a receiver can tell; authorisation is the link's
-// job, and the follower does not act on it.
+// Who sent a state command: carried on the wire (one byte) for the follower's log. It proves nothing: over DDS the
+// follower's access control decides who may command (only the panel's credentials may publish state_command).
 enum CommandSource : std::uint8_t { kFromCommandLine = 0, kFromLeader = 1, kFromPanel = 2 };
 
 // Any participant → follower (CRTK `state_command`).
 struct StateCommandMessage {
-  std::uint64_t sequence = 0;
-  std::int64_t stamp_ns = 0;
+  std::uint64_t session = 0;        // a random id drawn when the sender starts: a restarted sender is a new session
+  std::uint64_t sequence = 0;       // strictly increasing per session
+  std::int64_t stamp_ns = 0;        // sender clock; with the sequence, lets the follower drop replayed or stale commands
   StateCommand command = StateCommand::kDisable;
   std::uint8_t source = kFromCommandLine;  // a CommandSource
 };

@@ -302,19 +302,11 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
   real.real_clock = true;
   rt::MonotonicClock clock;
   LeaderSide leader = MakeLeaderSide(real, setup, link);
-  // The operator's enable: sent once the follower is heard from (a command sent before the link has matched it
-  // would be lost), and only if it is disabled (one that is homing, ready or following needs none).
-  bool enable_done = !request.enable_at_start;
-  const auto enable_when_heard = [&](double) {
-    if (enable_done || leader.unit->follower_statuses_received() == 0) return;
-    LeaderTickRecord latest;
-    if (!leader.unit->latest().Read(latest)) return;
-    if (latest.follower_state == static_cast<std::uint8_t>(OperatingState::kDisabled)) link.SendCommand(EnableCommand());
-    enable_done = true;
-  };
   RunClock run_clock;
   run_clock.real = &clock;
-  return RunSides(real, setup, Units::kLeader, &leader, nullptr, run_clock, log_file, stop, enable_when_heard);
+  // The leader sends no state command: enable, reset and home are the panel's or the follower's console's (the
+  // leader's link credentials do not grant the command topic).
+  return RunSides(real, setup, Units::kLeader, &leader, nullptr, run_clock, log_file, stop, {});
 }
 
 TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,

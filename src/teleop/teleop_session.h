@@ -56,8 +56,8 @@ struct TeleopRequest {
   double duration_s = 10;              // a replay stops earlier: 0.5 s after its end
   bool real_clock = false;
   // The operator's enable when the session starts (the follower homes, then follows once the leader has presence).
-  // Split: the follower enables itself at its start, and the leader sends enable once it first hears a disabled
-  // follower (one that disabled itself when the previous leader was lost).
+  // Split: the follower enables itself at its start; the leader never sends a command (a follower that disabled
+  // itself when its leader was lost is enabled again from the panel or the follower's console).
   bool enable_at_start = true;
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the mesh methods' atlas
 };

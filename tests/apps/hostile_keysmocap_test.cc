@@ -55,7 +55,7 @@ TEST_F(HostileKeysMocapTest, KeysInitPermissionsGrantOnlyTheLinksOwnTopics) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::regex topic("<topic>([^<]*)</topic>");
   for (const std::string& role : std::vector<std::string>{"leader", "follower", "panel"}) {
-    const std::string xml = Read(keys / (role + "_permissions.xml"));
+    const std::string xml = Read(keys / role / (role + "_permissions.xml"));
     int topics = 0;
     for (auto it = std::sregex_iterator(xml.begin(), xml.end(), topic); it != std::sregex_iterator(); ++it) {
       ++topics;

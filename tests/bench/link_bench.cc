@@ -52,7 +52,7 @@ link::LinkOptions Options(link::Role role, bool secure) {
   o.network_interface = "127.0.0.1";
   o.peers = {"127.0.0.1"};
   o.insecure = !secure;
-  if (secure) o.keys_dir = Keys();
+  if (secure) o.keys_dir = Keys() / link::ToString(role);
   return o;
 }
 

@@ -1,13 +1,22 @@
 // The DDS link end to end on loopback: each test starts its own participants (secured unless it says otherwise) in
 // a domain of its own process, and stops them.
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cmath>
+#include <ctime>
+#include <functional>
+#include <iostream>
 #include <limits>
 #include <memory>
+#include <set>
+#include <thread>
 
 #include <gtest/gtest.h>
 
 #include "robossis_link.h"
+#include "src/core/files.h"
 #include "src/core/rt/clock.h"
 #include "src/link/dds_entities.h"
 #include "src/link/dds_follower_link.h"
@@ -58,6 +67,38 @@ teleop::FollowerStatusMessage MakeStatus(std::uint64_t sequence) {
   return s;
 }
 
+teleop::StateCommandMessage PanelCommand(teleop::StateCommand c, std::uint64_t session, std::uint64_t sequence,
+                                         std::int64_t stamp_ns) {
+  teleop::StateCommandMessage m;
+  m.command = c;
+  m.session = session;
+  m.sequence = sequence;
+  m.stamp_ns = stamp_ns;
+  m.source = teleop::kFromPanel;
+  return m;
+}
+
+// Sends `command` (numbered from ++sequence, stamped now) every few milliseconds until the follower takes one: a
+// command sent before the panel's writer has matched the follower's reader is not delivered (volatile). Returns it.
+teleop::StateCommandMessage SendUntilReceived(DdsLeaderLink& panel, DdsFollowerLink& follower,
+                                              teleop::StateCommandMessage command, std::uint64_t& sequence,
+                                              const rt::Clock& clock) {
+  teleop::StateCommandMessage received;
+  EXPECT_TRUE(WaitFor([&] {
+    command.sequence = ++sequence;
+    command.stamp_ns = NowNs(clock);
+    panel.SendCommand(command);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return follower.TakeCommand(received);
+  }));
+  while (follower.TakeCommand(received)) {  // the ones still in flight
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  while (follower.TakeCommand(received)) {
+  }
+  return received;
+}
+
 void ExpectPairExchanges(bool insecure) {
   rt::MonotonicClock clock;
   DdsFollowerLink follower(LoopbackOptions(Role::kFollower, insecure), clock);
@@ -85,16 +126,17 @@ void ExpectPairExchanges(bool insecure) {
   EXPECT_DOUBLE_EQ(status.effort[3], 4.0);
   EXPECT_EQ(status.last_sequence, 9u);
 
-  teleop::StateCommandMessage command;
-  command.command = teleop::StateCommand::kEStop;
-  command.sequence = 3;
-  command.source = teleop::kFromLeader;
-  ASSERT_TRUE(leader.SendCommand(command));
-  teleop::StateCommandMessage received;
-  ASSERT_TRUE(WaitFor([&] { return follower.TakeCommand(received); }));
+  // State commands are the panel's.
+  DdsLeaderLink panel(LoopbackOptions(Role::kPanel, insecure));
+  std::uint64_t command_seq = 0;
+  const teleop::StateCommandMessage received =
+      SendUntilReceived(panel, follower, PanelCommand(teleop::StateCommand::kEStop, 21, 0, 0), command_seq, clock);
   EXPECT_EQ(received.command, teleop::StateCommand::kEStop);
-  EXPECT_EQ(received.sequence, 3u);
-  EXPECT_EQ(received.source, teleop::kFromLeader);
+  EXPECT_EQ(received.session, 21u);
+  EXPECT_GE(received.sequence, 1u);
+  EXPECT_LE(received.sequence, command_seq);
+  EXPECT_GT(received.stamp_ns, 0);
+  EXPECT_EQ(received.source, teleop::kFromPanel);
 }
 
 TEST(DdsLink, SecuredPairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(false); }
@@ -104,6 +146,7 @@ TEST(DdsLink, RealTimeCallsAllocateNothing) {
   rt::MonotonicClock clock;
   DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
   DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  DdsLeaderLink panel(LoopbackOptions(Role::kPanel));
   std::uint64_t seq = 0;
   ASSERT_TRUE(StreamUntilAccepted(leader, follower, clock, 5, seq, 5));
   teleop::SetPointMessage sp;
@@ -118,7 +161,8 @@ TEST(DdsLink, RealTimeCallsAllocateNothing) {
     follower.PublishStatus(st);
     leader.TakeFollowerStatus(st);
   }
-  leader.SendCommand(cmd);
+  leader.SendCommand(cmd);  // refused: no command writer
+  panel.SendCommand(cmd);   // queued for the panel's send thread
   EXPECT_EQ(counter.count(), 0u);
 }
 
@@ -190,12 +234,10 @@ TEST(DdsLink, PanelCredentialsCannotPublishSetPoints) {
   EXPECT_THROW(panel.CreateWriter(Topic::kSetPoint), std::runtime_error);
   // ... while the command topic it is granted works.
   DdsLeaderLink panel_link(LoopbackOptions(Role::kPanel));
-  teleop::StateCommandMessage c;
-  c.command = teleop::StateCommand::kEStop;
-  c.source = 2;
+  std::uint64_t seq = 0;
   teleop::StateCommandMessage got;
   ASSERT_TRUE(WaitFor([&] {
-    panel_link.SendCommand(c);
+    panel_link.SendCommand(PanelCommand(teleop::StateCommand::kEStop, 5, ++seq, NowNs(clock)));
     return follower.TakeCommand(got);
   }));
   EXPECT_EQ(got.command, teleop::StateCommand::kEStop);
@@ -254,20 +296,154 @@ TEST(DdsLink, NanAndHugeSetPointsFromAnAuthenticatedLeaderAreRejectedAndCounted)
 namespace robossis::link {
 namespace {
 
-TEST(Keys, InitMakesEveryCredentialWithPrivateKeysOwnerOnlyAndRefusesToOverwrite) {
-  const std::filesystem::path& dir = testing::TestKeys();
-  for (const char* role : {"leader", "follower", "panel"}) {
-    for (const std::string suffix : {"_cert.pem", "_key.pem", "_permissions.p7s"}) {
-      EXPECT_TRUE(std::filesystem::exists(dir / (role + suffix))) << role << suffix;
-    }
-    const auto perms = std::filesystem::status(dir / (std::string(role) + "_key.pem")).permissions();
-    EXPECT_EQ(perms, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write) << role;
+TEST(Keys, InitMakesOneBundlePerRoleWithOnlyItsOwnKeyAndTheCaApart) {
+  namespace fs = std::filesystem;
+  const fs::path& dir = testing::TestKeys();
+  const fs::perms owner_rw = fs::perms::owner_read | fs::perms::owner_write;
+  for (const std::string role : {"leader", "follower", "panel"}) {
+    std::set<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir / role)) files.insert(e.path().filename().string());
+    EXPECT_EQ(files, (std::set<std::string>{"ca_cert.pem", "governance.p7s", "governance.xml", role + "_cert.pem",
+                                             role + "_key.pem", role + "_permissions.p7s",
+                                             role + "_permissions.xml"}))
+        << role;
+    EXPECT_EQ(fs::status(dir / role / (role + "_key.pem")).permissions(), owner_rw) << role;
+    EXPECT_EQ(fs::status(dir / role).permissions(), fs::perms::owner_all) << role;
+    EXPECT_NO_THROW(CheckCredentialBundle(dir / role, role == "leader"     ? Role::kLeader
+                                                      : role == "follower" ? Role::kFollower
+                                                                           : Role::kPanel));
   }
-  EXPECT_TRUE(std::filesystem::exists(dir / "governance.p7s"));
-  EXPECT_EQ(std::filesystem::status(dir / "ca_key.pem").permissions(),
-            std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
-  EXPECT_EQ(std::filesystem::status(dir).permissions(), std::filesystem::perms::owner_all);
+  EXPECT_EQ(fs::status(dir / kCaFolder / "ca_key.pem").permissions(), owner_rw);
+  EXPECT_TRUE(fs::exists(dir / kCaFolder / "ca_cert.pem"));
+  EXPECT_EQ(fs::status(dir).permissions(), fs::perms::owner_all);
+  // Nothing at the top but the four folders (and the output marker): no key to copy by accident.
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_TRUE(e.is_directory() || e.path().filename().string().front() == '.') << e.path();
+  }
   EXPECT_THROW(InitKeys(dir, KeysInitOptions{}), std::runtime_error);
+}
+
+TEST(Keys, DefaultValidityIsOneYear) {
+  EXPECT_EQ(KeysInitOptions{}.validity_days, 365);
+  // The permissions' not_after is a year after today (± the day of margin on not_before's side).
+  const std::string xml = ReadTextFile(testing::TestKeys() / "leader" / "leader_permissions.xml");
+  const auto at = xml.find("<not_after>");
+  ASSERT_NE(at, std::string::npos);
+  std::tm tm{};
+  ASSERT_NE(strptime(xml.substr(at + 11, 19).c_str(), "%Y-%m-%dT%H:%M:%S", &tm), nullptr);
+  const double days = std::difftime(timegm(&tm), std::time(nullptr)) / 86400.0;
+  EXPECT_NEAR(days, 365.0, 1.0);
+}
+
+// A bundle made from a good one, then spoiled by `spoil`: the participant refuses it before joining.
+void ExpectBundleRefused(const std::function<void(const std::filesystem::path&)>& spoil,
+                         const std::string& expected_file, const std::string& expected_fix) {
+  namespace fs = std::filesystem;
+  const fs::path bundle = fs::temp_directory_path() / ("robossis-link-test-bundle-" + std::to_string(getpid()));
+  fs::remove_all(bundle);
+  fs::copy(testing::TestKeys() / "follower", bundle);
+  spoil(bundle);
+  LinkOptions o = LoopbackOptions(Role::kFollower);
+  o.keys_dir = bundle;
+  rt::MonotonicClock clock;
+  try {
+    DdsFollowerLink follower(o, clock);
+    ADD_FAILURE() << "expected " << expected_file << " to be refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(expected_file), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(expected_fix), std::string::npos) << e.what();
+  }
+  fs::remove_all(bundle);
+}
+
+TEST(Keys, ABundleHoldingTheCaKeyIsRefused) {
+  ExpectBundleRefused([](const auto& b) { std::filesystem::copy(testing::TestKeys() / kCaFolder / "ca_key.pem", b); },
+                      "ca_key.pem", "offline");
+}
+
+TEST(Keys, ABundleHoldingAnotherRolesKeyIsRefused) {
+  ExpectBundleRefused(
+      [](const auto& b) { std::filesystem::copy(testing::TestKeys() / "leader" / "leader_key.pem", b); },
+      "leader_key.pem", "remove leader_key.pem");
+}
+
+TEST(Keys, APrivateKeyReadableByGroupOrOthersIsRefused) {
+  for (const auto extra : {std::filesystem::perms::group_read, std::filesystem::perms::others_read}) {
+    ExpectBundleRefused(
+        [&](const auto& b) {
+          std::filesystem::permissions(b / "follower_key.pem", extra, std::filesystem::perm_options::add);
+        },
+        "follower_key.pem", "chmod 600");
+  }
+}
+
+// What the follower acts on is decided by its access control: the leader's credentials do not grant publishing
+// state_command, so a leader cannot even create the writer (Cyclone refuses it: "not allowed by security"), and a
+// leader link has none: its Reset and Enable never reach the follower.
+TEST(DdsLink, LeaderCredentialsCannotResetOrEnableTheFollower) {
+  rt::MonotonicClock clock;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
+  DdsParticipant leader_participant(LoopbackOptions(Role::kLeader));
+  try {
+    leader_participant.CreateWriter(Topic::kStateCommand);
+    ADD_FAILURE() << "the leader's credentials created a state_command writer";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("state_command"), std::string::npos) << e.what();
+  }
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  std::uint64_t seq = 0;
+  ASSERT_TRUE(StreamUntilAccepted(leader, follower, clock, 31, seq, 5));  // the leader is heard
+  std::uint64_t command_seq = 0;
+  for (int i = 0; i < 500; ++i) {  // 0.5 s of Reset and Enable while its set-points arrive
+    const auto c = i % 2 ? teleop::StateCommand::kEnable : teleop::StateCommand::kReset;
+    EXPECT_FALSE(leader.SendCommand(PanelCommand(c, 31, ++command_seq, NowNs(clock))));
+    leader.SendSetPoint(MakeSetPoint(31, ++seq, NowNs(clock)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(StreamUntilAccepted(leader, follower, clock, 31, seq, 5));  // everything sent so far has arrived
+  teleop::StateCommandMessage got;
+  EXPECT_FALSE(follower.TakeCommand(got));
+  EXPECT_EQ(follower.Statistics().commands_received, 0u);
+  EXPECT_EQ(leader.Statistics().commands_sent, 0u);
+  EXPECT_EQ(leader.Statistics().commands_refused, 500u);
+}
+
+// An authenticated panel's command sent again (a captured sample replayed, the same session and sequence, or an old
+// stamp) is dropped and counted; only the original is applied.
+TEST(DdsLink, AReplayedOrStaleResetIsRefusedAndCounted) {
+  rt::MonotonicClock clock;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
+  DdsLeaderLink panel(LoopbackOptions(Role::kPanel));
+  std::uint64_t seq = 0;
+  teleop::StateCommandMessage got =
+      SendUntilReceived(panel, follower, PanelCommand(teleop::StateCommand::kReset, 44, 0, 0), seq, clock);
+  EXPECT_EQ(got.command, teleop::StateCommand::kReset);
+  const auto before = follower.Statistics();
+  ASSERT_EQ(before.commands_replayed + before.commands_stale, 0u);
+  const teleop::StateCommandMessage reset = PanelCommand(teleop::StateCommand::kReset, 44, ++seq, NowNs(clock));
+  const std::int64_t t0 = reset.stamp_ns;
+  ASSERT_TRUE(panel.SendCommand(reset));
+  ASSERT_TRUE(WaitFor([&] { return follower.TakeCommand(got); }));
+  EXPECT_EQ(got.sequence, seq);
+
+  ASSERT_TRUE(panel.SendCommand(reset));  // the same session and sequence
+  ASSERT_TRUE(WaitFor([&] { return follower.Statistics().commands_replayed >= 1; }));
+  ASSERT_TRUE(panel.SendCommand(PanelCommand(teleop::StateCommand::kReset, 44, seq + 1, t0 - 1)));  // an older stamp
+  ASSERT_TRUE(WaitFor([&] { return follower.Statistics().commands_replayed >= 2; }));
+  // Newer sequence and stamp, but held back: it arrives 1.5 s after it was stamped, beyond command max_age_s (1 s)
+  // after the session's fastest delivery.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_TRUE(panel.SendCommand(PanelCommand(teleop::StateCommand::kReset, 44, seq + 2, t0 + 1)));
+  ASSERT_TRUE(WaitFor([&] { return follower.Statistics().commands_stale >= 1; }));
+  EXPECT_FALSE(follower.TakeCommand(got));
+  // The session goes on: a fresh command is applied.
+  ASSERT_TRUE(panel.SendCommand(PanelCommand(teleop::StateCommand::kEnable, 44, seq + 3, NowNs(clock))));
+  ASSERT_TRUE(WaitFor([&] { return follower.TakeCommand(got); }));
+  EXPECT_EQ(got.command, teleop::StateCommand::kEnable);
+  const auto stats = follower.Statistics();
+  EXPECT_EQ(stats.commands_replayed, 2u);
+  EXPECT_EQ(stats.commands_stale, 1u);
+  EXPECT_EQ(stats.commands_received, before.commands_received + 5);
 }
 
 }  // namespace
@@ -326,7 +502,7 @@ TEST(DdsLink, ALeaderWithCredentialsFromAnotherCaIsNotHeard) {
     rt::MonotonicClock clock;
     DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
     LinkOptions o = LoopbackOptions(Role::kLeader);
-    o.keys_dir = foreign;
+    o.keys_dir = foreign / "leader";
     DdsLeaderLink impostor(o);
     for (std::uint64_t i = 1; i <= 1500; ++i) {  // 1.5 s
       impostor.SendSetPoint(MakeSetPoint(13, i, NowNs(clock)));
@@ -335,6 +511,63 @@ TEST(DdsLink, ALeaderWithCredentialsFromAnotherCaIsNotHeard) {
     EXPECT_EQ(follower.Statistics().setpoints_received, 0u);
     EXPECT_EQ(impostor.Statistics().followers_matched, 0u);
   }
+  std::filesystem::remove_all(foreign);
+}
+
+}  // namespace
+}  // namespace robossis::link
+
+namespace robossis::link {
+namespace {
+
+TEST(DdsLink, ALeaderWithNoFollowerGivesUpNamingTheCause) {
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  try {
+    leader.WaitForFollower(1.0, 1.0);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no follower authenticated"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no peer answered"), std::string::npos) << e.what();
+  }
+}
+
+// A leader whose credentials come from another CA authenticates no follower: it gives up after its wait, naming the
+// handshake Cyclone refused; the leader with the right credentials started next is accepted.
+TEST(DdsLink, ALeaderThatCannotAuthenticateGivesUpNamingTheRefusedHandshakeAndTheRightOneIsAccepted) {
+  const std::filesystem::path foreign =
+      std::filesystem::temp_directory_path() / ("robossis-link-test-rogue-" + std::to_string(getpid()));
+  std::filesystem::remove_all(foreign);
+  InitKeys(foreign, KeysInitOptions{});
+  rt::MonotonicClock clock;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower), clock);
+  std::atomic<bool> stop{false};
+  std::thread status([&] {
+    for (std::uint64_t i = 1; !stop.load(); ++i) {
+      follower.PublishStatus(MakeStatus(i));
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  {
+    LinkOptions o = LoopbackOptions(Role::kLeader);
+    o.keys_dir = foreign / "leader";
+    DdsLeaderLink rogue(o);
+    try {
+      rogue.WaitForFollower(3.0, 3.0);
+      ADD_FAILURE() << "the rogue leader found a follower";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("no follower authenticated"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("handshake was refused"), std::string::npos) << e.what();
+      std::cout << "rogue leader: " << e.what() << "\n";
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  EXPECT_NO_THROW(leader.WaitForFollower(10.0, 30.0));
+  std::cout << "figures: the right leader accepted "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+            << " s after its start (after the rogue)\n";
+  stop.store(true);
+  status.join();
   std::filesystem::remove_all(foreign);
 }
 

@@ -1,4 +1,4 @@
-// The link's pure logic: set-point freshness, the sanity check, the wire mapping, the permissions documents.
+// The link's pure logic: set-point and command freshness, the sanity check, the wire mapping, the permissions documents.
 
 #include <cmath>
 #include <filesystem>
@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "src/link/command_freshness.h"
 #include "src/link/keys.h"
 #include "src/link/setpoint_freshness.h"
 #include "src/link/setpoint_validation.h"
@@ -82,6 +83,54 @@ TEST(SetPointFreshness, CheckAllocatesNothing) {
   testing::AllocationCounter counter;
   for (std::uint64_t i = 1; i <= 100; ++i) f.Check(At(3, i, static_cast<std::int64_t>(i) * kMs), static_cast<std::int64_t>(i) * kMs);
   EXPECT_EQ(counter.count(), 0u);
+}
+
+teleop::StateCommandMessage Command(std::uint64_t session, std::uint64_t seq, std::int64_t stamp_ns) {
+  teleop::StateCommandMessage m;
+  m.command = teleop::StateCommand::kReset;
+  m.session = session;
+  m.sequence = seq;
+  m.stamp_ns = stamp_ns;
+  return m;
+}
+
+CommandFilter Commands() { return CommandFilter(1000 * kMs, 1e-4); }
+
+TEST(CommandFilter, AcceptsEachSessionsIncreasingCommandsWithAnyClockOffset) {
+  auto f = Commands();
+  const std::int64_t offset = 987654321 * kMs;
+  EXPECT_EQ(f.Check(Command(5, 1, 10 * kMs), offset + 11 * kMs), CommandFreshness::kAccepted);
+  EXPECT_EQ(f.Check(Command(6, 1, -50 * kMs), 12 * kMs), CommandFreshness::kAccepted);  // another panel, its clock
+  EXPECT_EQ(f.Check(Command(5, 2, 500 * kMs), offset + 502 * kMs), CommandFreshness::kAccepted);
+  EXPECT_EQ(f.Check(Command(6, 2, 900 * kMs), 963 * kMs), CommandFreshness::kAccepted);
+}
+
+TEST(CommandFilter, DropsTheSameSessionAndSequenceAndAnOlderStampAsReplayed) {
+  auto f = Commands();
+  EXPECT_EQ(f.Check(Command(5, 7, 100 * kMs), 101 * kMs), CommandFreshness::kAccepted);
+  EXPECT_EQ(f.Check(Command(5, 7, 100 * kMs), 300 * kMs), CommandFreshness::kReplayed);  // captured and sent again
+  EXPECT_EQ(f.Check(Command(5, 6, 90 * kMs), 300 * kMs), CommandFreshness::kReplayed);   // an older one
+  EXPECT_EQ(f.Check(Command(5, 8, 100 * kMs), 300 * kMs), CommandFreshness::kReplayed);  // the old stamp
+  EXPECT_EQ(f.Check(Command(5, 8, 200 * kMs), 201 * kMs), CommandFreshness::kAccepted);
+}
+
+TEST(CommandFilter, DropsACommandDelayedBeyondTheAgeLimit) {
+  auto f = Commands();
+  EXPECT_EQ(f.Check(Command(5, 1, 0), 2 * kMs), CommandFreshness::kAccepted);
+  EXPECT_EQ(f.Check(Command(5, 2, 10 * kMs), 10 * kMs + 1001 * kMs), CommandFreshness::kAccepted);  // 999 ms late
+  EXPECT_EQ(f.Check(Command(5, 3, 20 * kMs), 20 * kMs + 1003 * kMs), CommandFreshness::kStale);     // 1001 ms late
+  EXPECT_EQ(f.Check(Command(5, 4, 2000 * kMs), 2003 * kMs), CommandFreshness::kAccepted);
+}
+
+TEST(CommandFilter, RemembersTheLastSessionsAndAllocatesNothing) {
+  auto f = Commands();
+  ASSERT_EQ(f.Check(Command(1, 3, 0), 0), CommandFreshness::kAccepted);
+  testing::AllocationCounter counter;
+  for (std::uint64_t s = 2; s <= kCommandSessions; ++s) {
+    ASSERT_EQ(f.Check(Command(s, 1, 0), 0), CommandFreshness::kAccepted);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(f.Check(Command(1, 3, 0), 0), CommandFreshness::kReplayed);  // the first session is still known
 }
 
 TEST(SetPointValidation, AcceptsASaneSetPointAndNamesTheFirstBadField) {
@@ -163,6 +212,9 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
     return std::find(v.begin(), v.end(), s) != v.end();
   };
   EXPECT_TRUE(has(leader.publish, "rt/rsr/setpoint"));
+  // Enable, reset, home: the panel's, never the leader's (it sends set-points only).
+  EXPECT_EQ(leader.publish, std::vector<std::string>{"rt/rsr/setpoint"});
+  EXPECT_TRUE(has(follower.subscribe, "rt/rsr/state_command"));
   EXPECT_FALSE(has(panel.publish, "rt/rsr/setpoint"));
   EXPECT_TRUE(has(panel.publish, "rt/rsr/state_command"));
   EXPECT_FALSE(has(leader.publish, "rt/rsr/measured_cp"));

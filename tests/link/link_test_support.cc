@@ -38,7 +38,7 @@ LinkOptions LoopbackOptions(Role role, bool insecure) {
   o.network_interface = "127.0.0.1";
   o.peers = {"127.0.0.1"};
   o.insecure = insecure;
-  if (!insecure) o.keys_dir = TestKeys();
+  if (!insecure) o.keys_dir = TestKeys() / ToString(role);
   return o;
 }
 

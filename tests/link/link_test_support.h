@@ -14,7 +14,7 @@ namespace robossis::link::testing {
 
 // A DDS domain unique to this process (1..200).
 int TestDomain();
-// Credentials made by InitKeys in a temporary folder, once per process (removed at exit).
+// Credentials made by InitKeys in a temporary folder, once per process (removed at exit): a folder per role.
 const std::filesystem::path& TestKeys();
 // Loopback options for `role`, secured with TestKeys() unless `insecure`.
 LinkOptions LoopbackOptions(Role role, bool insecure = false);

@@ -17,6 +17,8 @@
 #include "src/core/child_process.h"
 #include "src/core/config.h"
 #include "src/core/files.h"
+#include "src/link/dds_leader_link.h"
+#include "src/link/keys.h"
 #include "tests/link/link_test_support.h"
 #include "tests/support/robossis_cli.h"
 #include "tests/support/scratch_dir.h"
@@ -29,16 +31,18 @@ using namespace std::chrono_literals;
 // The caps of the demo's fast-hand run (the shipped 10 mm/s would never reach the walls in a short test).
 constexpr double kCapMmS = 100, kCapDegS = 20;
 
-std::vector<std::string> Common() {
-  return {"--keys",           testing::TestKeys().string(), "--domain", std::to_string(testing::TestDomain()),
-          "--max-speed-mm-s", std::to_string(kCapMmS),      "--max-angular-speed-deg-s", std::to_string(kCapDegS),
+// `keys` is the folder of `keys init` (teleop --link dds) or a unit's own folder of it (leader, follower).
+std::vector<std::string> Common(const std::filesystem::path& keys) {
+  return {"--keys",           keys.string(),               "--domain", std::to_string(testing::TestDomain()),
+          "--max-speed-mm-s", std::to_string(kCapMmS),     "--max-angular-speed-deg-s", std::to_string(kCapDegS),
           "--no-plots"};
 }
 
 std::string FastHand() { return "replay:" + (DefaultDataDir() / "teleop" / "fast_hand.csv").string(); }
 
-std::vector<std::string> Args(std::vector<std::string> unit, const std::filesystem::path& out, double duration_s) {
-  const auto common = Common();
+std::vector<std::string> Args(std::vector<std::string> unit, const std::filesystem::path& out, double duration_s,
+                              const std::filesystem::path& keys_init_dir = testing::TestKeys()) {
+  const auto common = Common(keys_init_dir / unit.front());
   unit.insert(unit.end(), common.begin(), common.end());
   unit.insert(unit.end(), {"--out", out.string(), "--duration-s", std::to_string(duration_s)});
   return unit;
@@ -110,7 +114,7 @@ TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses)
   robossis::testing::ScratchDir dir("robossis_link_units_teleop");
   std::string args = std::string("teleop --link dds --follower ") + kTwoProcessFollower + " --device " + FastHand() +
                      " --method proxy-safe --json --duration-s 5 --out " + (dir.path() / "run").string();
-  for (const std::string& a : Common()) args += " " + a;
+  for (const std::string& a : Common(testing::TestKeys())) args += " " + a;
   const auto run = robossis::testing::Robossis(args, false);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto s = nlohmann::json::parse(run.output);
@@ -171,13 +175,35 @@ TEST(LinkUnitsTest, LeaderKilledThenRestartedWhileTheFollowerRuns) {
     EXPECT_GT(killed["leader_ticks"].get<int>(), 500);
   }
   std::this_thread::sleep_for(1s);  // the follower holds, then disables itself (leader lost)
-  ChildProcess second = Leader(dir.path(), "leader2", 3);
+  ChildProcess second = Leader(dir.path(), "leader2", 6);
+  {
+    // The operator enables it again from the panel: the restarted leader may not (its credentials grant no
+    // state_command), it only streams set-points.
+    DdsLeaderLink panel(testing::LoopbackOptions(Role::kPanel));
+    teleop::FollowerStatusMessage status;
+    ASSERT_TRUE(testing::WaitFor(
+        [&] { return panel.TakeFollowerStatus(status) && status.state == teleop::OperatingState::kDisabled; }, 60s));
+    // Sent again every 100 ms (numbered on): one sent before the panel's writer has matched is not delivered.
+    teleop::StateCommandMessage enable;
+    enable.session = 1;
+    enable.command = teleop::StateCommand::kEnable;
+    enable.source = teleop::kFromPanel;
+    EXPECT_TRUE(testing::WaitFor(
+        [&] {
+          ++enable.sequence;
+          enable.stamp_ns = static_cast<std::int64_t>(enable.sequence) * 100'000'000;
+          panel.SendCommand(enable);
+          std::this_thread::sleep_for(100ms);
+          return panel.TakeFollowerStatus(status) && status.state != teleop::OperatingState::kDisabled;
+        },
+        60s));
+  }
   ExpectExitZero(second, dir.path() / "leader2.log");
   StopFollower(follower, dir.path() / "follower.log");
 
   const auto f = Summary(dir.path() / "follower");
   EXPECT_TRUE(HasTransition(f, "disabled", "leader_lost")) << f["follower_transitions"].dump();
-  // The new leader enabled it again and it followed: more set-points than the first leader alone sent.
+  // The panel enabled it again and it followed the new leader.
   int enabled = 0;
   for (const auto& t : f["follower_transitions"]) enabled += t["to"] == "enabled";
   EXPECT_GE(enabled, 2) << f["follower_transitions"].dump();
@@ -219,6 +245,47 @@ TEST(LinkUnitsTest, FollowerKilledThenRestartedWhileTheLeaderRuns) {
   EXPECT_EQ(l["nonfinite_outputs"], 0);
   EXPECT_EQ(l["complete"], true);
   PrintFigures("kill -9 follower, restart", f);
+}
+
+// A leader holding credentials from another CA (a second `keys init`) exits, naming the refused handshake, instead of
+// waiting for ever; the right leader started next is accepted. The time it took is printed, not asserted.
+TEST(LinkUnitsTest, ALeaderThatCannotAuthenticateExitsWithTheCauseAndTheRightOneIsAcceptedNext) {
+  robossis::testing::ScratchDir dir("robossis_link_units_rogue");
+  std::filesystem::create_directories(dir.path());
+  const std::filesystem::path rogue_keys = dir.path() / "rogue-keys";
+  InitKeys(rogue_keys, KeysInitOptions{});
+  ChildProcess follower = Follower(dir.path(), "follower");
+  {
+    ChildProcess rogue(ROBOSSIS_BINARY,
+                       Args({"leader", "--device", FastHand(), "--method", "proxy-safe"}, dir.path() / "rogue", 30,
+                            rogue_keys),
+                       dir.path() / "rogue.log");
+    const auto e = rogue.WaitFor(120s);
+    ASSERT_TRUE(e.has_value()) << "the rogue leader still runs: " << ReadTextFile(dir.path() / "rogue.log");
+    EXPECT_TRUE(e->exited && e->code != 0) << e->Describe();
+    const std::string log = ReadTextFile(dir.path() / "rogue.log");
+    EXPECT_NE(log.find("no follower authenticated"), std::string::npos) << log;
+    EXPECT_NE(log.find("handshake was refused"), std::string::npos) << log;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "rogue" / "summary.json"));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  ChildProcess leader = Leader(dir.path(), "leader", 2);
+  const char* accepted = "follower authenticated and heard after ";
+  const bool heard = testing::WaitFor(
+      [&] {
+        std::this_thread::sleep_for(10ms);
+        return ReadTextFile(dir.path() / "leader.log").find(accepted) != std::string::npos;
+      },
+      120s);
+  const double since_start_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ExpectExitZero(leader, dir.path() / "leader.log");
+  StopFollower(follower, dir.path() / "follower.log");
+  const std::string log = ReadTextFile(dir.path() / "leader.log");
+  ASSERT_TRUE(heard) << log;
+  const auto at = log.find(accepted);
+  std::cout << "figures: the right leader after the rogue: accepted " << since_start_s
+            << " s after its process started (" << log.substr(at, log.find('\n', at) - at) << ")\n";
+  EXPECT_GT(Summary(dir.path() / "follower")["setpoints_accepted"].get<int>(), 0);
 }
 
 }  // namespace
