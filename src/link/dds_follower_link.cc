@@ -21,6 +21,7 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
       dds_(options),
       setpoint_reader_(dds_.CreateReader(Topic::kSetPoint)),
       command_reader_(dds_.CreateReader(Topic::kStateCommand)),
+      estop_reader_(dds_.CreateReaderIfGranted(Topic::kEStop)),
       cp_writer_(dds_.CreateWriter(Topic::kMeasuredCp)),
       js_writer_(dds_.CreateWriter(Topic::kMeasuredJs)),
       state_writer_(dds_.CreateWriter(Topic::kOperatingState)),
@@ -34,6 +35,7 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
   stop_guard_ = Check(dds_create_guardcondition(dds_.participant()), "guard condition");
   Check(dds_waitset_attach(waitset_, setpoint_reader_, setpoint_reader_), "waitset attach");
   Check(dds_waitset_attach(waitset_, command_reader_, command_reader_), "waitset attach");
+  if (estop_reader_ > 0) Check(dds_waitset_attach(waitset_, estop_reader_, estop_reader_), "waitset attach");
   Check(dds_waitset_attach(waitset_, stop_guard_, stop_guard_), "waitset attach");
   receive_thread_ = std::thread([this] { ReceiveLoop(); });
   send_thread_ = std::thread([this] { SendLoop(); });
@@ -72,6 +74,8 @@ FollowerLinkStatistics DdsFollowerLink::Statistics() const noexcept {
   s.rejected_invalid = counters_.invalid.load();
   s.commands_received = counters_.commands.load();
   s.commands_dropped = counters_.commands_dropped.load();
+  s.estops_received = estop_.engaged();
+  s.estop_topic = estop_reader_ > 0;
   s.status_published = counters_.status.load();
   s.deadline_missed = counters_.deadline.load();
   s.leaders_alive = counters_.alive.load();
@@ -84,6 +88,7 @@ void DdsFollowerLink::ReceiveLoop() {
     const dds_return_t n = dds_waitset_wait(waitset_, triggered, 4, DDS_MSECS(100));
     if (stop_.load(std::memory_order_acquire)) break;
     if (n < 0) continue;
+    TakeEStops();  // first: the E-stop waits for nothing
     TakeSetPoints();
     TakeCommands();
     ReadStatuses();
@@ -140,12 +145,32 @@ void DdsFollowerLink::TakeCommands() {
         counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
         continue;
       }
+      if (m.command == teleop::StateCommand::kEStop) {
+        estop_.Engage();  // the level, not the queue
+        continue;
+      }
       m.sequence = w->seq;
       m.stamp_ns = w->stamp_ns;
       m.source = w->source;
       if (!commands_.TryPush(m)) counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
     }
     dds_return_loan(command_reader_, samples, n);
+  }
+}
+
+void DdsFollowerLink::TakeEStops() {
+  if (estop_reader_ <= 0) return;
+  constexpr int kBatch = 8;
+  robossis_msgs_msg_dds__EStop_ samples[kBatch];
+  void* buffers[kBatch];
+  dds_sample_info_t infos[kBatch];
+  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
+  for (;;) {
+    const dds_return_t n = dds_take(estop_reader_, buffers, infos, kBatch, kBatch);
+    if (n <= 0) return;
+    for (int i = 0; i < n; ++i) {
+      if (infos[i].valid_data && samples[i].engaged) estop_.Engage();
+    }
   }
 }
 
