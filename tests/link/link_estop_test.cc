@@ -4,8 +4,11 @@
 // (a simulated clock and the pulse recorder as the back end: ticks are counted, not wall time). The waits only
 // poll for what must happen (no timing assertions).
 
+#include <atomic>
+#include <chrono>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +16,7 @@
 #include "src/core/rt/clock.h"
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
+#include "src/link/estop_sender.h"
 #include "src/teleop/follower_unit.h"
 #include "tests/link/link_test_support.h"
 #include "tests/teleop/follower_fixture.h"
@@ -102,7 +106,9 @@ TEST_P(LinkEStopTest, AnEStopBehindAFloodOfCommandsDisablesTheDrivesInOneTick) {
   EXPECT_EQ(ticks, 1);
   EXPECT_EQ(unit.state(), teleop::OperatingState::kEStop);
   EXPECT_EQ(unit.reason(), teleop::FaultReason::kEStop);
-  if (insecure) EXPECT_TRUE(follower.Statistics().estop_topic);
+  if (insecure) {
+    EXPECT_TRUE(follower.Statistics().estop_topic);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Senders, LinkEStopTest,
@@ -120,6 +126,30 @@ TEST(LinkEStopLateJoinerTest, AFollowerThatJoinsAfterTheEStopStillLearnsOfIt) {
   ASSERT_TRUE(WaitFor([&] { return leader.Statistics().estops_sent > 0; }));
   DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
   EXPECT_TRUE(WaitFor([&] { return follower.EStopsEngaged() == 1; }));
+}
+
+TEST(LinkEStopSenderTest, TheCommandLinesEStopIsConfirmedByTheFollowersState) {
+  teleop::ShippedFollowerSetup setup;
+  const teleop::FollowerConfig config = setup.ShippedFollowerConfig();
+  rt::SimulatedClock clock;
+  actuation::PulseRecorderFollower back_end(setup.model_, setup.actuation_, setup.home_, 1 << 16, 1 << 16);
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
+  teleop::FollowerUnit unit(setup.model_, setup.actuation_, config, back_end, follower, clock);
+  // The follower ticks on its own thread (its clock simulated), started and always stopped here.
+  std::atomic<bool> stop{false};
+  std::thread ticker([&] {
+    while (!stop.load()) {
+      clock.AdvanceNs(kTickNs);
+      unit.Tick();
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  const EStopSendResult r = SendEStopAndConfirm(LoopbackOptions(Role::kPanel, true), 10.0);
+  stop.store(true);
+  ticker.join();
+  EXPECT_TRUE(r.follower_heard);
+  EXPECT_TRUE(r.confirmed);
+  EXPECT_EQ(unit.state(), teleop::OperatingState::kEStop);
 }
 
 }  // namespace
