@@ -13,6 +13,23 @@ namespace {
 std::int64_t Ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 constexpr char kFrameId[] = "rsr_fixed_ring";
 constexpr const char* kJointNames[6] = {"theta1", "theta2", "theta3", "d1", "d2", "d3"};
+
+// Takes every sample waiting on `reader` into fixed buffers (fixed-size types: no allocation) and applies `apply` to
+// each valid one.
+template <typename Sample, int kBatch, typename Apply>
+void TakeEach(dds_entity_t reader, Apply&& apply) {
+  Sample samples[kBatch];
+  void* buffers[kBatch];
+  dds_sample_info_t infos[kBatch];
+  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
+  for (;;) {
+    const dds_return_t n = dds_take(reader, buffers, infos, kBatch, kBatch);
+    if (n <= 0) return;
+    for (int i = 0; i < n; ++i) {
+      if (infos[i].valid_data) apply(samples[i]);
+    }
+  }
+}
 }  // namespace
 
 DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& clock)
@@ -96,37 +113,27 @@ void DdsFollowerLink::ReceiveLoop() {
 }
 
 void DdsFollowerLink::TakeSetPoints() {
-  constexpr int kBatch = 16;
-  robossis_msgs_msg_dds__SetPoint_ samples[kBatch];
-  void* buffers[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
-  for (;;) {
-    const dds_return_t n = dds_take(setpoint_reader_, buffers, infos, kBatch, kBatch);
-    if (n <= 0) return;
-    for (int i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      const std::int64_t arrival = Ns(clock_.NowS());
-      counters_.received.fetch_add(1, std::memory_order_relaxed);
-      SetPointArrival a;
-      FromWire(samples[i], a.message);
-      a.arrival_ns = arrival;
-      if (!IsSaneSetPoint(a.message, options_.tuning, nullptr)) {
-        counters_.invalid.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
-      switch (freshness_.Check(a.message, arrival)) {
-        case Freshness::kAccepted:
-          setpoint_.Publish(a);
-          counters_.accepted.fetch_add(1, std::memory_order_relaxed);
-          break;
-        case Freshness::kStale: counters_.stale.fetch_add(1, std::memory_order_relaxed); break;
-        case Freshness::kReplayed: counters_.replayed.fetch_add(1, std::memory_order_relaxed); break;
-        case Freshness::kRetiredSession:
-        case Freshness::kConcurrentSession: counters_.session.fetch_add(1, std::memory_order_relaxed); break;
-      }
+  TakeEach<robossis_msgs_msg_dds__SetPoint_, 16>(setpoint_reader_, [&](const robossis_msgs_msg_dds__SetPoint_& w) {
+    const std::int64_t arrival = Ns(clock_.NowS());
+    counters_.received.fetch_add(1, std::memory_order_relaxed);
+    SetPointArrival a;
+    FromWire(w, a.message);
+    a.arrival_ns = arrival;
+    if (!IsSaneSetPoint(a.message, options_.tuning, nullptr)) {
+      counters_.invalid.fetch_add(1, std::memory_order_relaxed);
+      return;
     }
-  }
+    switch (freshness_.Check(a.message, arrival)) {
+      case Freshness::kAccepted:
+        setpoint_.Publish(a);
+        counters_.accepted.fetch_add(1, std::memory_order_relaxed);
+        break;
+      case Freshness::kStale: counters_.stale.fetch_add(1, std::memory_order_relaxed); break;
+      case Freshness::kReplayed: counters_.replayed.fetch_add(1, std::memory_order_relaxed); break;
+      case Freshness::kRetiredSession:
+      case Freshness::kConcurrentSession: counters_.session.fetch_add(1, std::memory_order_relaxed); break;
+    }
+  });
 }
 
 void DdsFollowerLink::TakeCommands() {
@@ -160,18 +167,9 @@ void DdsFollowerLink::TakeCommands() {
 
 void DdsFollowerLink::TakeEStops() {
   if (estop_reader_ <= 0) return;
-  constexpr int kBatch = 8;
-  robossis_msgs_msg_dds__EStop_ samples[kBatch];
-  void* buffers[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
-  for (;;) {
-    const dds_return_t n = dds_take(estop_reader_, buffers, infos, kBatch, kBatch);
-    if (n <= 0) return;
-    for (int i = 0; i < n; ++i) {
-      if (infos[i].valid_data && samples[i].engaged) estop_.Engage();
-    }
-  }
+  TakeEach<robossis_msgs_msg_dds__EStop_, 8>(estop_reader_, [&](const robossis_msgs_msg_dds__EStop_& w) {
+    if (w.engaged) estop_.Engage();
+  });
 }
 
 void DdsFollowerLink::ReadStatuses() {
