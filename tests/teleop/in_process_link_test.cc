@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "src/teleop/local_command_link.h"
+
 namespace robossis::teleop {
 namespace {
 
@@ -50,6 +52,22 @@ TEST(InProcessLinkTest, CommandsFromBothProducersAreQueuedAndNeverLost) {
   link.operator_commands().SendEStop();
   EXPECT_EQ(link.EStopsEngaged(), 4u);
   EXPECT_EQ(link.commands_dropped(), 1u);
+}
+
+TEST(LocalCommandLinkTest, ALocalEStopIsNeverQueuedAndAddsToTheLinks) {
+  rt::SimulatedClock clock;
+  InProcessLink link(clock);
+  LocalCommandLink local(link, 2);
+  StateCommandMessage c;
+  c.command = StateCommand::kEnable;
+  ASSERT_TRUE(local.SendLocal(c));
+  ASSERT_TRUE(local.SendLocal(c));
+  EXPECT_FALSE(local.SendLocal(c));  // the local queue is full
+  c.command = StateCommand::kEStop;
+  EXPECT_TRUE(local.SendLocal(c));  // the E-stop is not queued: never refused
+  link.SendEStop();                 // and the network's add to it
+  EXPECT_EQ(local.EStopsEngaged(), 2u);
+  EXPECT_EQ(local.local_commands_dropped(), 1u);
 }
 
 TEST(InProcessLinkTest, StatusIsTakenOnceAndReadableByWatchers) {
