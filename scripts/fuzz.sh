@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-30}"
 shift || true
 all=(fuzz_trajectory_csv fuzz_reference_trajectory fuzz_motive_reader fuzz_yaml_configs fuzz_atlas fuzz_setpoint_validation
-     fuzz_session_log fuzz_stl_mesh fuzz_panel_script)
+     fuzz_setpoint_freshness fuzz_session_log fuzz_stl_mesh fuzz_panel_script)
 if [ $# -gt 0 ]; then targets=("$@"); else targets=("${all[@]}"); fi
 seeds() {
   case "$1" in

@@ -8,6 +8,7 @@
 #include <csignal>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "src/core/rt/clock.h"
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
+#include "src/link/estop_sender.h"
 #include "src/link/two_process_session.h"
 
 namespace robossis::apps {
@@ -216,6 +218,34 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
   });
 }
 
+void RegisterEStop(CLI::App& app) {
+  struct EStopOptions {
+    link::LinkOptions link_options;
+    double timeout_s = 5;
+  };
+  auto o = std::make_shared<EStopOptions>();
+  o->link_options.role = link::Role::kPanel;
+  CLI::App* cmd = app.add_subcommand(
+      "estop", "E-stop the follower over DDS (as the panel participant) and wait until it reports ESTOP; it leaves "
+               "the E-stop only by a reset. Exit status 1 if no follower confirmed within --timeout-s");
+  AddLinkOptions(*cmd, o->link_options);
+  cmd->add_option("--timeout-s", o->timeout_s, "How long to wait for the follower's confirmation (s)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 600.0));
+  cmd->callback([o] {
+    CheckLinkOptions(o->link_options, std::cerr);
+    const link::EStopSendResult r = link::SendEStopAndConfirm(o->link_options, o->timeout_s);
+    if (r.confirmed) {
+      std::cout << "estop: the follower reports ESTOP (reset to leave)\n";
+      return;
+    }
+    throw std::runtime_error(r.follower_heard ? std::string("estop: the follower still reports ") +
+                                                    teleop::ToString(r.last_state) + " after --timeout-s"
+                                              : "estop: no follower heard within --timeout-s (the E-stop was "
+                                                "offered to any follower while this waited)");
+  });
+}
+
 void RegisterReplay(CLI::App& app, const AppContext& context) {
   struct ReplayOptions {
     std::string log;
@@ -253,6 +283,7 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   RegisterTeleop(app, context);
   RegisterLeader(app, context);
   RegisterFollower(app, context);
+  RegisterEStop(app);
   RegisterReplay(app, context);
 }
 

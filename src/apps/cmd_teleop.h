@@ -1,5 +1,5 @@
 #pragma once
-// `robossis teleop` and `robossis replay` (cmd_teleop.cc).
+// `robossis teleop`, `leader`, `follower`, `estop` and `replay` (cmd_teleop.cc).
 
 #include "src/apps/app_context.h"
 

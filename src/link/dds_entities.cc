@@ -19,6 +19,7 @@ const char* TopicName(Topic topic) {
     case Topic::kMeasuredCp: return "measured_cp";
     case Topic::kMeasuredJs: return "measured_js";
     case Topic::kOperatingState: return "operating_state";
+    case Topic::kEStop: return "estop";
   }
   return "?";
 }
@@ -36,6 +37,7 @@ const dds_topic_descriptor_t* Descriptor(Topic topic) {
     case Topic::kMeasuredCp: return &geometry_msgs_msg_dds__PoseStamped__desc;
     case Topic::kMeasuredJs: return &sensor_msgs_msg_dds__JointState__desc;
     case Topic::kOperatingState: return &robossis_msgs_msg_dds__OperatingState__desc;
+    case Topic::kEStop: return &robossis_msgs_msg_dds__EStop__desc;
   }
   return nullptr;
 }
@@ -65,6 +67,13 @@ dds_qos_t* CreateTopicQos(Topic topic, const LinkTuning& tuning) {
       dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, Seconds(0.1));
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 32);
       dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+      break;
+    case Topic::kEStop:
+      // A latched level, not a stream of commands: reliable; the newest sample of each writer is all a reader needs
+      // (every sample engages), and a follower that joins later gets it at once (transient-local).
+      dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, Seconds(0.1));
+      dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 1);
+      dds_qset_durability(q, DDS_DURABILITY_TRANSIENT_LOCAL);
       break;
     case Topic::kOperatingState:
       // A late joiner (restarted leader, a panel) needs the last state at once.
@@ -155,28 +164,30 @@ std::string DdsParticipant::HandshakeFailure() const {
 
 dds_entity_t DdsParticipant::TopicHandle(Topic topic) {
   dds_entity_t& t = topics_[static_cast<int>(topic)];
-  if (t == 0) {
-    const std::string name = WireTopicName(options_, topic);
-    t = Check(dds_create_topic(participant_, Descriptor(topic), name.c_str(), nullptr, nullptr), name.c_str());
+  if (t <= 0) {
+    t = dds_create_topic(participant_, Descriptor(topic), WireTopicName(options_, topic).c_str(), nullptr, nullptr);
   }
   return t;
 }
 
-dds_entity_t DdsParticipant::CreateWriter(Topic topic) {
-  dds_qos_t* q = CreateTopicQos(topic, options_.tuning);
-  const dds_entity_t w = dds_create_writer(participant_, TopicHandle(topic), q, nullptr);
-  dds_delete_qos(q);
-  return Check(w, (std::string("writer ") + WireTopicName(options_, topic)).c_str());
+dds_entity_t DdsParticipant::Create(Topic topic, bool writer, bool if_granted) {
+  const std::string name = WireTopicName(options_, topic);
+  dds_entity_t e = TopicHandle(topic);
+  if (e > 0) {
+    dds_qos_t* q = CreateTopicQos(topic, options_.tuning);
+    e = writer ? dds_create_writer(participant_, e, q, nullptr) : dds_create_reader(participant_, e, q, nullptr);
+    dds_delete_qos(q);
+  }
+  if (if_granted && !options_.insecure && e == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) return 0;
+  Check(e, ((writer ? "writer " : "reader ") + name).c_str());
+  if (!writer) Check(dds_set_status_mask(e, DDS_DATA_AVAILABLE_STATUS), "reader status mask");
+  return e;
 }
 
-dds_entity_t DdsParticipant::CreateReader(Topic topic) {
-  dds_qos_t* q = CreateTopicQos(topic, options_.tuning);
-  const dds_entity_t r = dds_create_reader(participant_, TopicHandle(topic), q, nullptr);
-  dds_delete_qos(q);
-  Check(r, (std::string("reader ") + WireTopicName(options_, topic)).c_str());
-  Check(dds_set_status_mask(r, DDS_DATA_AVAILABLE_STATUS), "reader status mask");
-  return r;
-}
+dds_entity_t DdsParticipant::CreateWriter(Topic topic) { return Create(topic, true, false); }
+dds_entity_t DdsParticipant::CreateReader(Topic topic) { return Create(topic, false, false); }
+dds_entity_t DdsParticipant::CreateWriterIfGranted(Topic topic) { return Create(topic, true, true); }
+dds_entity_t DdsParticipant::CreateReaderIfGranted(Topic topic) { return Create(topic, false, true); }
 
 WakeSignal::WakeSignal() : fd_(eventfd(0, EFD_CLOEXEC)) {
   if (fd_ < 0) throw std::runtime_error("eventfd failed");

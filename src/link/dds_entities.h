@@ -14,7 +14,8 @@
 namespace robossis::link {
 
 // The topics (names on the wire are rt/<namespace>/<name>).
-enum class Topic { kSetPoint, kStateCommand, kMeasuredCp, kMeasuredJs, kOperatingState };
+enum class Topic { kSetPoint, kStateCommand, kMeasuredCp, kMeasuredJs, kOperatingState, kEStop };
+inline constexpr int kNumTopics = 6;
 const char* TopicName(Topic topic);  // "setpoint", "state_command", "measured_cp", ...
 std::string WireTopicName(const LinkOptions& options, Topic topic);  // "rt/rsr/setpoint"
 
@@ -38,14 +39,19 @@ class DdsParticipant {
   std::string HandshakeFailure() const;
   dds_entity_t CreateWriter(Topic topic);
   dds_entity_t CreateReader(Topic topic);  // with DATA_AVAILABLE in its status mask
+  // As above, but 0 instead of an exception when a secured participant's permissions do not grant the topic (so
+  // that a link still runs, on its older path, with credentials made before the topic existed).
+  dds_entity_t CreateWriterIfGranted(Topic topic);
+  dds_entity_t CreateReaderIfGranted(Topic topic);
 
  private:
-  dds_entity_t TopicHandle(Topic topic);
+  dds_entity_t TopicHandle(Topic topic);  // < 0: Cyclone's return code
+  dds_entity_t Create(Topic topic, bool writer, bool if_granted);
   LinkOptions options_;
   std::uint64_t handshake_failures_before_ = 0;
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
-  dds_entity_t topics_[5] = {};
+  dds_entity_t topics_[kNumTopics] = {};
 };
 
 // A wake-up from a real-time thread to a link thread: an eventfd (a non-blocking write system call, no lock and no

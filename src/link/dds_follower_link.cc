@@ -13,6 +13,23 @@ namespace {
 std::int64_t Ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 constexpr char kFrameId[] = "rsr_fixed_ring";
 constexpr const char* kJointNames[6] = {"theta1", "theta2", "theta3", "d1", "d2", "d3"};
+
+// Takes every sample waiting on `reader` into fixed buffers (fixed-size types: no allocation) and applies `apply` to
+// each valid one.
+template <typename Sample, int kBatch, typename Apply>
+void TakeEach(dds_entity_t reader, Apply&& apply) {
+  Sample samples[kBatch];
+  void* buffers[kBatch];
+  dds_sample_info_t infos[kBatch];
+  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
+  for (;;) {
+    const dds_return_t n = dds_take(reader, buffers, infos, kBatch, kBatch);
+    if (n <= 0) return;
+    for (int i = 0; i < n; ++i) {
+      if (infos[i].valid_data) apply(samples[i]);
+    }
+  }
+}
 }  // namespace
 
 DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& clock)
@@ -21,6 +38,7 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
       dds_(options),
       setpoint_reader_(dds_.CreateReader(Topic::kSetPoint)),
       command_reader_(dds_.CreateReader(Topic::kStateCommand)),
+      estop_reader_(dds_.CreateReaderIfGranted(Topic::kEStop)),
       cp_writer_(dds_.CreateWriter(Topic::kMeasuredCp)),
       js_writer_(dds_.CreateWriter(Topic::kMeasuredJs)),
       state_writer_(dds_.CreateWriter(Topic::kOperatingState)),
@@ -35,6 +53,7 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
   stop_guard_ = Check(dds_create_guardcondition(dds_.participant()), "guard condition");
   Check(dds_waitset_attach(waitset_, setpoint_reader_, setpoint_reader_), "waitset attach");
   Check(dds_waitset_attach(waitset_, command_reader_, command_reader_), "waitset attach");
+  if (estop_reader_ > 0) Check(dds_waitset_attach(waitset_, estop_reader_, estop_reader_), "waitset attach");
   Check(dds_waitset_attach(waitset_, stop_guard_, stop_guard_), "waitset attach");
   receive_thread_ = std::thread([this] { ReceiveLoop(); });
   send_thread_ = std::thread([this] { SendLoop(); });
@@ -75,6 +94,8 @@ FollowerLinkStatistics DdsFollowerLink::Statistics() const noexcept {
   s.commands_dropped = counters_.commands_dropped.load();
   s.commands_replayed = counters_.commands_replayed.load();
   s.commands_stale = counters_.commands_stale.load();
+  s.estops_received = estop_.engaged();
+  s.estop_topic = estop_reader_ > 0;
   s.status_published = counters_.status.load();
   s.deadline_missed = counters_.deadline.load();
   s.leaders_alive = counters_.alive.load();
@@ -87,6 +108,7 @@ void DdsFollowerLink::ReceiveLoop() {
     const dds_return_t n = dds_waitset_wait(waitset_, triggered, 4, DDS_MSECS(100));
     if (stop_.load(std::memory_order_acquire)) break;
     if (n < 0) continue;
+    TakeEStops();  // first: the E-stop waits for nothing
     TakeSetPoints();
     TakeCommands();
     ReadStatuses();
@@ -94,37 +116,27 @@ void DdsFollowerLink::ReceiveLoop() {
 }
 
 void DdsFollowerLink::TakeSetPoints() {
-  constexpr int kBatch = 16;
-  robossis_msgs_msg_dds__SetPoint_ samples[kBatch];
-  void* buffers[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
-  for (;;) {
-    const dds_return_t n = dds_take(setpoint_reader_, buffers, infos, kBatch, kBatch);
-    if (n <= 0) return;
-    for (int i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      const std::int64_t arrival = Ns(clock_.NowS());
-      counters_.received.fetch_add(1, std::memory_order_relaxed);
-      SetPointArrival a;
-      FromWire(samples[i], a.message);
-      a.arrival_ns = arrival;
-      if (!IsSaneSetPoint(a.message, options_.tuning, nullptr)) {
-        counters_.invalid.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
-      switch (freshness_.Check(a.message, arrival)) {
-        case Freshness::kAccepted:
-          setpoint_.Publish(a);
-          counters_.accepted.fetch_add(1, std::memory_order_relaxed);
-          break;
-        case Freshness::kStale: counters_.stale.fetch_add(1, std::memory_order_relaxed); break;
-        case Freshness::kReplayed: counters_.replayed.fetch_add(1, std::memory_order_relaxed); break;
-        case Freshness::kRetiredSession:
-        case Freshness::kConcurrentSession: counters_.session.fetch_add(1, std::memory_order_relaxed); break;
-      }
+  TakeEach<robossis_msgs_msg_dds__SetPoint_, 16>(setpoint_reader_, [&](const robossis_msgs_msg_dds__SetPoint_& w) {
+    const std::int64_t arrival = Ns(clock_.NowS());
+    counters_.received.fetch_add(1, std::memory_order_relaxed);
+    SetPointArrival a;
+    FromWire(w, a.message);
+    a.arrival_ns = arrival;
+    if (!IsSaneSetPoint(a.message, options_.tuning, nullptr)) {
+      counters_.invalid.fetch_add(1, std::memory_order_relaxed);
+      return;
     }
-  }
+    switch (freshness_.Check(a.message, arrival)) {
+      case Freshness::kAccepted:
+        setpoint_.Publish(a);
+        counters_.accepted.fetch_add(1, std::memory_order_relaxed);
+        break;
+      case Freshness::kStale: counters_.stale.fetch_add(1, std::memory_order_relaxed); break;
+      case Freshness::kReplayed: counters_.replayed.fetch_add(1, std::memory_order_relaxed); break;
+      case Freshness::kRetiredSession:
+      case Freshness::kConcurrentSession: counters_.session.fetch_add(1, std::memory_order_relaxed); break;
+    }
+  });
 }
 
 void DdsFollowerLink::TakeCommands() {
@@ -143,6 +155,10 @@ void DdsFollowerLink::TakeCommands() {
         counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
         continue;
       }
+      if (m.command == teleop::StateCommand::kEStop) {
+        estop_.Engage();  // the level, not the queue; an E-stop is never refused as replayed or stale
+        continue;
+      }
       // Only the panel's credentials can publish here (access control); this drops what it sent before again.
       switch (command_filter_.Check(m, arrival)) {
         case CommandFreshness::kAccepted: break;
@@ -153,6 +169,13 @@ void DdsFollowerLink::TakeCommands() {
     }
     dds_return_loan(command_reader_, samples, n);
   }
+}
+
+void DdsFollowerLink::TakeEStops() {
+  if (estop_reader_ <= 0) return;
+  TakeEach<robossis_msgs_msg_dds__EStop_, 8>(estop_reader_, [&](const robossis_msgs_msg_dds__EStop_& w) {
+    if (w.engaged) estop_.Engage();
+  });
 }
 
 void DdsFollowerLink::ReadStatuses() {

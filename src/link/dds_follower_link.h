@@ -5,6 +5,11 @@
 // TakeCommand pops a queue, PublishStatus writes a snapshot and wakes the send thread (an eventfd write). A receive
 // thread waits on DDS, takes the samples, runs the freshness filter and the sanity check and publishes what passes;
 // a send thread writes measured_cp, measured_js and operating_state. DDS is never called on the caller's thread.
+//
+// The E-stop: every engaged sample on rt/<ns>/estop, and every "estop" state command, increments an atomic count
+// (EStopsEngaged) in the receive thread; nothing queues it, so a full command queue cannot drop it. Credentials
+// whose permissions predate the estop topic get no reader for it (Statistics().estop_topic is false) and rely on
+// the "estop" command.
 
 #include <atomic>
 #include <memory>
@@ -17,6 +22,7 @@
 #include "src/link/dds_entities.h"
 #include "src/link/link_statistics.h"
 #include "src/link/setpoint_freshness.h"
+#include "src/teleop/estop_latch.h"
 #include "src/teleop/link.h"
 
 namespace robossis::link {
@@ -37,6 +43,7 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   bool TakeSetPoint(teleop::SetPointMessage& message, std::int64_t& arrival_ns) noexcept override;
   bool TakeCommand(teleop::StateCommandMessage& message) noexcept override;
   void PublishStatus(const teleop::FollowerStatusMessage& message) noexcept override;
+  std::uint64_t EStopsEngaged() const noexcept override { return estop_.engaged(); }
 
   FollowerLinkStatistics Statistics() const noexcept;
 
@@ -45,12 +52,13 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   void SendLoop();
   void TakeSetPoints();
   void TakeCommands();
+  void TakeEStops();
   void ReadStatuses();
 
   LinkOptions options_;
   const rt::Clock& clock_;
   DdsParticipant dds_;
-  dds_entity_t setpoint_reader_, command_reader_;
+  dds_entity_t setpoint_reader_, command_reader_, estop_reader_;
   dds_entity_t cp_writer_, js_writer_, state_writer_;
   dds_entity_t waitset_ = 0, stop_guard_ = 0;
   SetPointFreshness freshness_;
@@ -59,6 +67,7 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   rt::Snapshot<SetPointArrival> setpoint_;
   std::uint64_t setpoint_version_taken_ = 0;  // caller's thread only
   rt::SpscQueue<teleop::StateCommandMessage> commands_{64};
+  teleop::EStopLatch estop_;
   rt::Snapshot<teleop::FollowerStatusMessage> status_;
   WakeSignal status_wake_;
 

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <random>
 #include <stdexcept>
 #include <thread>
 
 #include "robossis_link.h"
+#include "src/core/rt/clock.h"
 #include "src/link/wire_convert.h"
 
 namespace robossis::link {
@@ -17,6 +19,8 @@ DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dd
   // sends set-points only, the panel state commands only (enable, reset, home: never the leader's to give).
   if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);
   if (options.role == Role::kPanel) command_writer_ = dds_.CreateWriter(Topic::kStateCommand);
+  estop_writer_ = dds_.CreateWriterIfGranted(Topic::kEStop);
+  session_ = (static_cast<std::uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
   cp_reader_ = dds_.CreateReader(Topic::kMeasuredCp);
   js_reader_ = dds_.CreateReader(Topic::kMeasuredJs);
   state_reader_ = dds_.CreateReader(Topic::kOperatingState);
@@ -42,7 +46,16 @@ void DdsLeaderLink::SendSetPoint(const teleop::SetPointMessage& message) noexcep
   send_wake_.Notify();
 }
 
+void DdsLeaderLink::SendEStop() noexcept {
+  estop_.Engage();
+  send_wake_.Notify();
+}
+
 bool DdsLeaderLink::SendCommand(const teleop::StateCommandMessage& message) noexcept {
+  if (message.command == teleop::StateCommand::kEStop) {
+    SendEStop();
+    return true;
+  }
   if (command_writer_ == 0 || !commands_.TryPush(message)) {
     counters_.refused.fetch_add(1, std::memory_order_relaxed);
     return false;
@@ -100,6 +113,8 @@ LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
   s.commands_refused = counters_.refused.load();
   s.status_received = counters_.status.load();
   s.state_received = counters_.state.load();
+  s.estops_sent = counters_.estops.load();
+  s.estop_topic = estop_writer_ > 0;
   if (setpoint_writer_ > 0) {
     dds_publication_matched_status_t matched;
     if (dds_get_publication_matched_status(setpoint_writer_, &matched) == DDS_RETCODE_OK) {
@@ -109,8 +124,33 @@ LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
   return s;
 }
 
+void DdsLeaderLink::WriteEStop(std::uint64_t count) {
+  const std::int64_t now = rt::MonotonicNowNs();
+  dds_return_t rc = DDS_RETCODE_OK;
+  if (estop_writer_ > 0) {
+    robossis_msgs_msg_dds__EStop_ w{};
+    w.sender_session = session_;
+    w.seq = count;
+    w.stamp_ns = now;
+    w.engaged = true;
+    rc = dds_write(estop_writer_, &w);
+  } else {
+    robossis_msgs_msg_dds__StateCommand_ w{};
+    char frame_id[] = "";
+    w.header.stamp = ToTime(now);
+    w.header.frame_id = frame_id;
+    w.command = const_cast<char*>(CommandName(teleop::StateCommand::kEStop));
+    w.seq = count;
+    w.stamp_ns = now;
+    w.source = options_.role == Role::kPanel ? teleop::kFromPanel : teleop::kFromLeader;
+    rc = dds_write(command_writer_, &w);
+  }
+  if (rc == DDS_RETCODE_OK) counters_.estops.fetch_add(1, std::memory_order_relaxed);
+}
+
 void DdsLeaderLink::SendLoop() {
   std::uint64_t version_sent = 0;
+  std::uint64_t estops_written = 0;
   char frame_id[] = "";
   while (true) {
     send_wake_.Wait();
@@ -126,6 +166,13 @@ void DdsLeaderLink::SendLoop() {
       robossis_msgs_msg_dds__StateCommand_ w{};
       ToWire(c, frame_id, w);
       if (dds_write(command_writer_, &w) == DDS_RETCODE_OK) counters_.commands.fetch_add(1, std::memory_order_relaxed);
+    }
+    // After the commands taken above: a reset queued before an E-stop never reaches the follower after it. Several
+    // E-stops engaged since the last write are one sample (the level is engaged either way).
+    const std::uint64_t estops = estop_.engaged();
+    if (estops != estops_written) {
+      WriteEStop(estops);
+      estops_written = estops;
     }
   }
 }

@@ -65,8 +65,9 @@ RoleTopics TopicsOf(Role role, const std::string& ns) {  // WireTopicName valida
     case Role::kFollower: topics = {status, {n(Topic::kSetPoint), n(Topic::kStateCommand)}}; break;
     case Role::kPanel: topics = {{n(Topic::kStateCommand)}, status}; break;
   }
-  // E-STOP TOPIC: every role may publish it, the follower subscribes:
-  // (role == Role::kFollower ? topics.subscribe : topics.publish).push_back(n(Topic::kEStop));
+  // The E-stop is everyone's to give (the leader on a device failure, the panel, `robossis estop`); the follower
+  // reads it.
+  (role == Role::kFollower ? topics.subscribe : topics.publish).push_back(n(Topic::kEStop));
   return topics;
 }
 

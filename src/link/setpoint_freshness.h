@@ -6,7 +6,8 @@
 // filter tracks the smallest (arrival − stamp) of the session (clock offset + fastest delivery) and judges each
 // set-point by how much later than that it arrives. The minimum may creep upward by the drift allowance, so a
 // follower clock running fast is absorbed. A delay present from the session's very first set-point is not seen
-// (the follower's watchdog still holds on silence). Plain logic: no allocation, no locks.
+// (the follower's watchdog still holds on silence). Plain logic: no allocation, no locks, and no signed overflow
+// for any int64 stamp or arrival (the differences saturate).
 
 #include <array>
 #include <cstdint>

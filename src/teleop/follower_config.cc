@@ -47,6 +47,7 @@ FollowerConfig FollowerConfig::FromConfig(const ConfigNode& root, const transfer
   c.setpoint.max_angular_accel_rad_s2 = DegToRad(sp.PositiveNumber("max_angular_accel_deg_s2"));
   c.setpoint.cap_tolerance = sp.NumberInRange("cap_tolerance", 0.0, 0.5);
   c.setpoint.stamp_jitter_s = 1e-3 * sp.NumberInRange("stamp_jitter_ms", 0.0, 10.0);
+  c.setpoint.arrival_allowance_s = 1e-3 * sp.NumberInRange("arrival_allowance_ms", 0.0, 100.0);
   const ConfigNode wd = root.Child("watchdog");
   c.watchdog.hold_after_s = 1e-3 * wd.PositiveNumber("hold_after_ms");
   c.watchdog.leader_lost_after_s = 1e-3 * wd.PositiveNumber("leader_lost_after_ms");

@@ -72,11 +72,23 @@ void FollowerUnit::Tick() noexcept {
   rec.time_s = now;
   rec.took_setpoint = false;
 
-  // 1. Commands (from every participant, in arrival order).
+  // 0. The E-stop level, before anything else: an E-stop engaged since the last tick disables the drives now,
+  // whatever waits in the command queues.
+  const std::uint64_t estops = link_.EStopsEngaged();
+  const bool estop_now = estops != estops_seen_;
+  if (estop_now) {
+    estops_seen_ = estops;
+    ++counters_.estops;
+    machine_.OnCommand(StateCommand::kEStop, back_end_);
+  }
+
+  // 1. Commands (from every participant, in arrival order). A reset taken in the tick that engaged an E-stop may
+  // have been sent before it (the level overtakes the queues): it is refused, the operator resets again.
   StateCommandMessage command;
   while (link_.TakeCommand(command)) {
     ++counters_.commands_taken;
-    if (!machine_.OnCommand(command.command, back_end_)) ++counters_.commands_refused;
+    const bool refused = estop_now && command.command == StateCommand::kReset;
+    if (refused || !machine_.OnCommand(command.command, back_end_)) ++counters_.commands_refused;
   }
 
   // 2. The newest set-point, validated.

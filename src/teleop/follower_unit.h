@@ -9,6 +9,9 @@
 // Not a loop: a runner calls Tick() on a thread at 10 kHz (real clock) or steps it (simulated clock). Tick() is
 // allocation-free, lock-free and noexcept; the constructor allocates the record queue.
 //
+// E-stop: the first thing each tick reads is the link's E-stop count (FollowerLink::EStopsEngaged); when it has
+// grown, the state machine E-stops (the drives are disabled in that tick), whatever the command queues hold.
+//
 // Motion: the commanded velocity changes by at most the acceleration caps per tick (SetPointLimits: the same caps
 // the validator applies to the set-points) and never exceeds the speed caps; following approaches the wanted pose
 // no faster than it can stop there.
@@ -84,6 +87,7 @@ struct FollowerCounters {
   std::uint64_t leader_lost = 0;         // times the leader timeout disabled the drives
   std::uint64_t limit_violations = 0;    // ticks at which the measured joints broke a limit (cones included)
   std::uint64_t guard_constrained = 0;   // ticks at which the guard changed the wanted step
+  std::uint64_t estops = 0;             // ticks at which the link's E-stop count had grown (each E-stops)
   std::uint64_t commands_taken = 0;
   std::uint64_t commands_refused = 0;
   std::uint64_t status_published = 0;
@@ -127,6 +131,7 @@ class FollowerUnit final : public rt::PeriodicTask {
   rt::SpscQueue<FollowerTickRecord> records_;
   FollowerCounters counters_;
   FollowerTickRecord record_;
+  std::uint64_t estops_seen_ = 0;  // the link's E-stop count at the last tick (0: one engaged before start acts)
 
   // Set-point state.
   bool has_setpoint_ = false;

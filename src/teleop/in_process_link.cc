@@ -8,10 +8,16 @@ InProcessLink::InProcessLink(const rt::Clock& clock, std::size_t command_capacit
     : clock_(clock), leader_commands_(command_capacity), operator_commands_(command_capacity) {}
 
 bool OperatorCommandPort::Send(const StateCommandMessage& message) noexcept {
+  if (message.command == StateCommand::kEStop) {
+    SendEStop();
+    return true;
+  }
   if (link_.operator_commands_.TryPush(message)) return true;
   link_.commands_dropped_.fetch_add(1, std::memory_order_relaxed);
   return false;
 }
+
+void OperatorCommandPort::SendEStop() noexcept { link_.SendEStop(); }
 
 void InProcessLink::SendSetPoint(const SetPointMessage& message) noexcept {
   TimedSetPoint t;
@@ -25,6 +31,10 @@ bool InProcessLink::TakeFollowerStatus(FollowerStatusMessage& message) noexcept 
 }
 
 bool InProcessLink::SendCommand(const StateCommandMessage& message) noexcept {
+  if (message.command == StateCommand::kEStop) {
+    SendEStop();
+    return true;
+  }
   if (leader_commands_.TryPush(message)) return true;
   commands_dropped_.fetch_add(1, std::memory_order_relaxed);
   return false;
@@ -39,8 +49,7 @@ bool InProcessLink::TakeSetPoint(SetPointMessage& message, std::int64_t& arrival
 }
 
 bool InProcessLink::TakeCommand(StateCommandMessage& message) noexcept {
-  // The E-stop must not wait behind the other producer: the leader's queue (device failures) first, then the
-  // operator's; both are drained every tick.
+  // The leader's queue first, then the operator's; both are drained every tick (the E-stop is not queued at all).
   if (leader_commands_.TryPop(message)) return true;
   return operator_commands_.TryPop(message);
 }

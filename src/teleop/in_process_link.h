@@ -5,7 +5,9 @@
 // Arrival time is the shared clock's reading when the set-point was sent.
 //
 // Producers: the leader unit sends set-points and leader commands; exactly one other thread (the command line or
-// the panel) sends operator commands through operator_commands(). The follower unit is the one consumer.
+// the panel) sends operator commands through operator_commands(). The follower unit is the one consumer. The E-stop
+// is a latched level (EStopLatch) that any thread may engage, through SendEStop(), the operator port's SendEStop(),
+// or a kEStop command on either port: it is never queued, so a full queue cannot drop it.
 // Every call is allocation-free, lock-free and noexcept; the queues are allocated at construction.
 
 #include <atomic>
@@ -14,6 +16,7 @@
 #include "src/core/rt/clock.h"
 #include "src/core/rt/snapshot.h"
 #include "src/core/rt/spsc_queue.h"
+#include "src/teleop/estop_latch.h"
 #include "src/teleop/link.h"
 
 namespace robossis::teleop {
@@ -30,7 +33,9 @@ struct TimedSetPoint {
 class OperatorCommandPort {
  public:
   explicit OperatorCommandPort(InProcessLink& link) noexcept : link_(link) {}
+  // A kEStop command engages the E-stop level (never refused); others are queued (false if the queue was full).
   bool Send(const StateCommandMessage& message) noexcept;
+  void SendEStop() noexcept;
 
  private:
   InProcessLink& link_;
@@ -44,10 +49,12 @@ class InProcessLink final : public LeaderLink, public FollowerLink {
   void SendSetPoint(const SetPointMessage& message) noexcept override;
   bool TakeFollowerStatus(FollowerStatusMessage& message) noexcept override;
   bool SendCommand(const StateCommandMessage& message) noexcept override;
+  void SendEStop() noexcept override { estop_.Engage(); }
   // FollowerLink
   bool TakeSetPoint(SetPointMessage& message, std::int64_t& arrival_ns) noexcept override;
   bool TakeCommand(StateCommandMessage& message) noexcept override;
   void PublishStatus(const FollowerStatusMessage& message) noexcept override;
+  std::uint64_t EStopsEngaged() const noexcept override { return estop_.engaged(); }
 
   // The operator's command producer (one thread).
   OperatorCommandPort& operator_commands() noexcept { return operator_port_; }
@@ -66,6 +73,7 @@ class InProcessLink final : public LeaderLink, public FollowerLink {
   rt::SpscQueue<StateCommandMessage> operator_commands_;
   OperatorCommandPort operator_port_{*this};
   std::atomic<std::uint64_t> commands_dropped_{0};
+  EStopLatch estop_;
 };
 
 }  // namespace robossis::teleop

@@ -231,7 +231,12 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   // State: a failure latches; otherwise presence decides.
   const bool failure = !s.ok() && s.status != haptics::DeviceStatus::kEndOfScript;
   if (failure) {
-    if (state_ != LeaderState::kDeviceFault) ++counters_.device_failures;
+    if (state_ != LeaderState::kDeviceFault) {
+      // The hand's device no longer says where the hand is: the robot is E-stopped, not only held (a hold needs
+      // the set-point stream, which a failing leader may not keep up). The follower leaves it by a reset only.
+      ++counters_.device_failures;
+      link_.SendEStop();
+    }
     state_ = LeaderState::kDeviceFault;
   } else if (state_ != LeaderState::kDeviceFault) {
     if (s.status == haptics::DeviceStatus::kEndOfScript) state_ = LeaderState::kEnded;

@@ -24,8 +24,9 @@
 // Operator presence (the device's button) gates everything: without it the clutch is open (the transfer ignores
 // the hand, the follower is asked to hold) and no force is displayed; with it back, the mapping re-anchors, so
 // nothing jumps. A device failure (failed, non-finite or stale read) zeroes the force (HapticDevice does) and
-// latches the leader's fault: set-points carry kSetPointDeviceFault and no presence (the follower holds) until
-// RequestReset(). The end of a replay is not a failure: the leader holds.
+// latches the leader's fault and engages the E-stop (LeaderLink::SendEStop, once per failure): set-points carry
+// kSetPointDeviceFault and no presence until RequestReset(); the follower leaves its E-stop by its own reset.
+// The end of a replay is not a failure: the leader holds.
 //
 // Real time: Tick() allocates nothing, locks nothing, prints and throws nothing. Records go to the flight recorder
 // through an SpscQueue (a full queue drops and counts), the latest one to a Snapshot for watchers.
@@ -97,7 +98,7 @@ struct LeaderCounters {
   std::uint64_t setpoints_sent = 0;
   std::uint64_t stopped_at_boundary = 0;  // set-points stopped short of the goal
   std::uint64_t ik_rejected = 0;          // a candidate failed the final IK check: the last set-point was repeated
-  std::uint64_t device_failures = 0;      // transitions into kDeviceFault
+  std::uint64_t device_failures = 0;      // transitions into kDeviceFault (each engages the E-stop)
   std::uint64_t records_dropped = 0;      // the flight recorder's queue was full
   std::uint64_t nonfinite_outputs = 0;    // a non-finite force or set-point was produced (and replaced)
   double max_force_n = 0;                 // largest |f| sent to the device

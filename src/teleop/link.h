@@ -5,7 +5,11 @@
 //
 // Real-time calls (noexcept, allocation-free, lock-free, never block): everything the loops call each tick.
 // "Latest" semantics for set-points and status (a newer value replaces an unread older one, as best-effort
-// keep-last-1 does on the wire); commands are queued and never lost.
+// keep-last-1 does on the wire); commands are queued (a full queue drops and counts). The E-stop is not a queued
+// command but a latched level (EStopLatch): engaging it never fails and nothing queued before it delays or drops
+// it; the old kEStop state command is routed to the same level by every link.
+
+#include <cstdint>
 
 #include "src/teleop/link_messages.h"
 
@@ -20,6 +24,9 @@ class LeaderLink {
   // A state command to the follower. Over DDS only the panel's credentials grant it (a leader's link refuses it:
   // false); the leader unit sends none. False if the link refused it.
   virtual bool SendCommand(const StateCommandMessage& message) noexcept = 0;
+  // Engages the E-stop (the leader on a device failure, the panel's button, the command line). Never refused by a
+  // full queue; the follower leaves the E-stop only by an explicit reset.
+  virtual void SendEStop() noexcept = 0;
 };
 
 class FollowerLink {
@@ -31,6 +38,8 @@ class FollowerLink {
   // The next queued command from any participant; false when none is waiting.
   virtual bool TakeCommand(StateCommandMessage& message) noexcept = 0;
   virtual void PublishStatus(const FollowerStatusMessage& message) noexcept = 0;
+  // How many E-stops were engaged so far (only ever grows): the follower E-stops whenever it has grown.
+  virtual std::uint64_t EStopsEngaged() const noexcept = 0;
 };
 
 }  // namespace robossis::teleop

@@ -1,5 +1,6 @@
 #include "src/teleop/setpoint_validator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,8 @@ void SetPointLimits::Validate() const {
           setpoint_period_s, "0 < T <= 0.1 s");
   require(std::isfinite(stamp_jitter_s) && stamp_jitter_s >= 0 && stamp_jitter_s <= 0.01, "stamp_jitter_s",
           stamp_jitter_s, "0..10 ms");
+  require(std::isfinite(arrival_allowance_s) && arrival_allowance_s >= 0 && arrival_allowance_s <= 0.1,
+          "arrival_allowance_s", arrival_allowance_s, "0..100 ms");
 }
 
 Vector6d CapStepToSpeeds(const Vector6d& step, const transfer::SpeedCaps& caps, double dt) noexcept {
@@ -124,13 +127,27 @@ SetPointVerdict SetPointValidator::CheckMessage(const SetPointMessage& m, double
   }
   if (has_sequence_ && m.leader_session != session_) Reset();  // a restarted leader re-anchors
   sample = SampleFromMessage(m);
+  // The follower's own clock: its time credit grows with the time between the arrivals it judges (starting at the
+  // allowance when the reference is new) and each accepted set-point spends its interval. One period is always
+  // allowed, or a leader at the caps would be refused whenever its set-points arrive on time.
+  const double allowance = std::max(limits_.arrival_allowance_s, limits_.setpoint_period_s);
+  credit_s_ = has_arrival_ ? credit_s_ + std::max(0.0, arrival_s - last_arrival_s_) : allowance;
+  has_arrival_ = true;
+  last_arrival_s_ = arrival_s;
   double interval_s = 0;
   if (has_reference_ && has_sequence_ && m.leader_session == session_) {
     const double by_sequence = static_cast<double>(m.sequence - sequence_) * limits_.setpoint_period_s;
-    interval_s = std::min(by_sequence, sample.time_s - reference_.time_s + limits_.stamp_jitter_s);
+    const double by_stamps = sample.time_s - reference_.time_s + limits_.stamp_jitter_s;
+    // One step: no longer than the arrivals' interval plus the allowance. All steps: no more than the credit, so
+    // that a forged interval never buys a faster sustained speed than the caps on the follower's clock.
+    const double by_arrivals = arrival_s - reference_arrival_s_ + allowance;
+    // Never 0 (Check() would take the stamps' difference): a spent credit judges over a sliver, refusing motion.
+    interval_s = std::max(std::min({by_sequence, by_stamps, by_arrivals, credit_s_}), 1e-9);
   }
   const SetPointVerdict v = Check(sample, interval_s);
   if (v == SetPointVerdict::kAccepted) {
+    credit_s_ -= interval_s;
+    reference_arrival_s_ = arrival_s;
     has_sequence_ = true;
     session_ = m.leader_session;
     sequence_ = m.sequence;

@@ -32,6 +32,12 @@ struct SetPointLimits {
   // How much shorter than the sequence says the stamps' interval may be ([assumed], follower.yaml): a leader tick
   // that runs late and the next one on time bring two device samples closer than one period.
   double stamp_jitter_s = 1e-3;
+  // How much longer than the follower's own clock measured between their arrivals the intervals judged may be
+  // ([assumed], follower.yaml): the spread of the link's delay (a set-point delayed and the next on time arrive
+  // closer together than they were sent). Per step, and in all since the reference (a credit of the follower's
+  // elapsed time that starts at this), so that a leader forging stamps and sequences never buys a faster sustained
+  // speed. One set-point period is allowed whatever this says.
+  double arrival_allowance_s = 5e-3;
   // Throws std::invalid_argument naming the field.
   void Validate() const;
 };
@@ -73,14 +79,20 @@ class SetPointValidator {
 
   // A link message: the field checks, freshness (now_s - arrival_s <= max_age_s) and order (sequence within a
   // leader session; a new session starts a new reference), then Check() over the interval since the reference:
-  // the sequence steps times the set-point period, but no longer than the stamps' interval plus stamp_jitter_s (so
-  // neither a forged stamp nor a forged sequence buys a larger step). `sample` receives the converted set-point.
+  // the sequence steps times the set-point period, but no longer than the stamps' interval plus stamp_jitter_s,
+  // nor than the arrivals' interval plus arrival_allowance_s, nor than the follower's time credit (its clock's
+  // elapsed time plus arrival_allowance_s, less the intervals already accepted): the leader's stamp and sequence
+  // are its word, the arrivals are the follower's, so no forged pair buys a longer step or a faster sustained
+  // speed. `sample` receives the converted set-point.
   SetPointVerdict CheckMessage(const SetPointMessage& message, double arrival_s, double now_s,
                                SetPointSample& sample) noexcept;
 
   // Forget the reference (after a clutch, a hold or a fault the next set-point re-anchors; no rate is judged
   // across the gap).
-  void Reset() noexcept { has_reference_ = false; }
+  void Reset() noexcept {
+    has_reference_ = false;
+    has_arrival_ = false;
+  }
 
   const SetPointLimits& limits() const noexcept { return limits_; }
   std::uint64_t count(SetPointVerdict verdict) const noexcept { return counts_[static_cast<int>(verdict)]; }
@@ -100,6 +112,12 @@ class SetPointValidator {
   bool has_sequence_ = false;
   std::uint64_t session_ = 0;
   std::uint64_t sequence_ = 0;
+  // The follower's clock (CheckMessage): the reference's arrival, the time credit (s) and the arrival it was last
+  // brought up to.
+  double reference_arrival_s_ = 0;
+  bool has_arrival_ = false;
+  double last_arrival_s_ = 0;
+  double credit_s_ = 0;
   robot::RsrLimitCheck tightest_{};
   std::array<std::uint64_t, kNumSetPointVerdicts> counts_{};
 };

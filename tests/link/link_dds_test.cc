@@ -130,13 +130,24 @@ void ExpectPairExchanges(bool insecure) {
   DdsLeaderLink panel(LoopbackOptions(Role::kPanel, insecure));
   std::uint64_t command_seq = 0;
   const teleop::StateCommandMessage received =
-      SendUntilReceived(panel, follower, PanelCommand(teleop::StateCommand::kEStop, 21, 0, 0), command_seq, clock);
-  EXPECT_EQ(received.command, teleop::StateCommand::kEStop);
+      SendUntilReceived(panel, follower, PanelCommand(teleop::StateCommand::kDisable, 21, 0, 0), command_seq, clock);
+  EXPECT_EQ(received.command, teleop::StateCommand::kDisable);
   EXPECT_EQ(received.session, 21u);
   EXPECT_GE(received.sequence, 1u);
   EXPECT_LE(received.sequence, command_seq);
   EXPECT_GT(received.stamp_ns, 0);
   EXPECT_EQ(received.source, teleop::kFromPanel);
+
+  // The E-stop is not a queued command: it raises the follower link's count, from the leader (the E-stop is
+  // everyone's) and from the panel's "estop" command alike.
+  leader.SendEStop();
+  ASSERT_TRUE(WaitFor([&] { return follower.EStopsEngaged() == 1; }));
+  ASSERT_TRUE(panel.SendCommand(PanelCommand(teleop::StateCommand::kEStop, 21, ++command_seq, NowNs(clock))));
+  ASSERT_TRUE(WaitFor([&] { return follower.EStopsEngaged() == 2; }));
+  for (teleop::StateCommandMessage queued; follower.TakeCommand(queued);) {
+    EXPECT_NE(queued.command, teleop::StateCommand::kEStop);
+  }
+  EXPECT_EQ(follower.Statistics().estops_received, 2u);
 }
 
 TEST(DdsLink, SecuredPairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(false); }
@@ -235,12 +246,10 @@ TEST(DdsLink, PanelCredentialsCannotPublishSetPoints) {
   // ... while the command topic it is granted works.
   DdsLeaderLink panel_link(LoopbackOptions(Role::kPanel));
   std::uint64_t seq = 0;
-  teleop::StateCommandMessage got;
   ASSERT_TRUE(WaitFor([&] {
     panel_link.SendCommand(PanelCommand(teleop::StateCommand::kEStop, 5, ++seq, NowNs(clock)));
-    return follower.TakeCommand(got);
+    return follower.EStopsEngaged() > 0;
   }));
-  EXPECT_EQ(got.command, teleop::StateCommand::kEStop);
   EXPECT_EQ(follower.Statistics().setpoints_received, 0u);
 }
 

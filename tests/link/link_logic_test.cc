@@ -78,6 +78,23 @@ TEST(SetPointFreshness, TakesANewSessionOnlyAfterTheOldOneWentSilentAndNeverGoes
   EXPECT_EQ(f.Check(At(2, 3, 7 * kMs), 132 * kMs), Freshness::kAccepted);
 }
 
+TEST(SetPointFreshness, StampsAndArrivalsAtTheEndsOfInt64NeverOverflow) {
+  constexpr std::int64_t kMin = std::numeric_limits<std::int64_t>::min();
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  SetPointFreshness f = Filter();
+  EXPECT_EQ(f.Check(At(7, 1, 0), 0), Freshness::kAccepted);
+  // A stamp from the far past arrives 1 ms later: its (arrival - stamp) is beyond int64, and saturates to a delay
+  // far beyond the age limit (a wrapped difference would look like the fastest delivery yet).
+  EXPECT_EQ(f.Check(At(7, 2, kMin), 1 * kMs), Freshness::kStale);
+  EXPECT_EQ(f.Check(At(7, 3, 2 * kMs), 2 * kMs), Freshness::kAccepted);  // the session goes on
+  // A new session at the ends of the clock, both ways, then an ordinary set-point: verdicts, not undefined behaviour.
+  SetPointFreshness g = Filter();
+  EXPECT_EQ(g.Check(At(8, 1, kMax), kMin), Freshness::kAccepted);
+  EXPECT_EQ(g.Check(At(8, 2, kMin), kMax), Freshness::kStale);
+  EXPECT_EQ(g.Check(At(9, 1, 0), kMax), Freshness::kAccepted);  // the old session silent for the whole clock
+  EXPECT_EQ(g.Check(At(9, 2, kMax), kMin), Freshness::kAccepted);  // saturated: as fast as the fastest yet
+}
+
 TEST(SetPointFreshness, CheckAllocatesNothing) {
   auto f = Filter();
   testing::AllocationCounter counter;

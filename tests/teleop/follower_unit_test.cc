@@ -1,6 +1,7 @@
 #include "src/teleop/follower_unit.h"
 
 #include <cmath>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -285,6 +286,89 @@ TEST_F(FollowerUnitTest, ClutchReanchorsWithoutAJump) {
     prev = CmdX();
   }
   EXPECT_LT(CmdX() - x_clutch, 0.002);  // did not catch up the 5 mm moved while clutched
+}
+
+// 10 000 commands flood a producer's queue (64 taken, the rest dropped and counted), then the E-stop comes from
+// `send`; the drives must be off after the first tick that follows it (ticks counted on the simulated clock).
+class FollowerEStopTest : public FollowerUnitTest {
+ protected:
+  void FloodThenEStopDisablesTheDrivesInOneTick(bool leader_queue, const std::function<void()>& send) {
+    EnableAndFollow();
+    ASSERT_TRUE(back_end_.State().enabled);
+    StateCommandMessage enable;
+    enable.command = StateCommand::kEnable;  // idempotent once enabled: the flood itself changes nothing
+    int refused = 0;
+    for (int i = 0; i < 10000; ++i) {
+      const bool ok = leader_queue ? link_.SendCommand(enable) : link_.operator_commands().Send(enable);
+      if (!ok) ++refused;
+    }
+    ASSERT_EQ(refused, 10000 - 64);  // the queue is full
+    ASSERT_EQ(link_.commands_dropped(), 10000u - 64u);
+    send();
+    int ticks = 0;
+    while (back_end_.State().enabled && ticks < 1000) {
+      Step();
+      ++ticks;
+    }
+    EXPECT_EQ(ticks, 1);  // the drives were off after the first tick following the E-stop
+    EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+    EXPECT_EQ(unit_.reason(), FaultReason::kEStop);
+    EXPECT_EQ(unit_.counters().estops, 1u);
+    // Latched: the queued enables and the set-points leave it alone; only a reset does.
+    Run(0.05);
+    EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+    EXPECT_FALSE(back_end_.State().enabled);
+    Command(StateCommand::kReset);
+    Step();
+    EXPECT_EQ(unit_.state(), OperatingState::kDisabled);
+  }
+};
+
+TEST_F(FollowerEStopTest, TheOperatorsEStopCommandBehindAFullQueue) {
+  FloodThenEStopDisablesTheDrivesInOneTick(false, [&] {
+    StateCommandMessage estop;
+    estop.command = StateCommand::kEStop;
+    EXPECT_TRUE(link_.operator_commands().Send(estop));  // the old command, routed to the level: never refused
+  });
+}
+
+TEST_F(FollowerEStopTest, TheLeadersEStopBehindAFullQueue) {
+  FloodThenEStopDisablesTheDrivesInOneTick(true, [&] { link_.SendEStop(); });
+}
+
+TEST_F(FollowerEStopTest, AnEStopFromAnotherThreadWhileTheLeaderFloods) {
+  // The operator's port engages the level while the leader's queue is full: any producer may E-stop.
+  FloodThenEStopDisablesTheDrivesInOneTick(true, [&] { link_.operator_commands().SendEStop(); });
+}
+
+TEST_F(FollowerEStopTest, AResetTakenInTheTickOfAnEStopDoesNotReleaseIt) {
+  EnableAndFollow();
+  // A reset queued, then an E-stop: the level overtakes the queue, so the reset (which may have been sent before
+  // the E-stop) must not release it in the same tick.
+  Command(StateCommand::kReset);
+  link_.SendEStop();
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  EXPECT_FALSE(back_end_.State().enabled);
+  Command(StateCommand::kReset);  // a later reset does
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kDisabled);
+}
+
+TEST_F(FollowerEStopTest, TwoEStopsBetweenTwoTicksAndOneAfterAResetEachAct) {
+  EnableAndFollow();
+  link_.SendEStop();
+  link_.SendEStop();
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  Command(StateCommand::kReset);
+  Step();
+  ASSERT_EQ(unit_.state(), OperatingState::kDisabled);
+  EnableAndFollow();
+  link_.SendEStop();  // the count grew again: a second E-stop is not merged into the first
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kEStop);
+  EXPECT_EQ(unit_.counters().estops, 2u);
 }
 
 TEST_F(FollowerUnitTest, BackEndFaultLatchesAndResets) {

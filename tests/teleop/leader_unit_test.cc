@@ -122,14 +122,16 @@ INSTANTIATE_TEST_SUITE_P(Methods, FastHandEveryMethod, ::testing::ValuesIn(hapti
                            return n;
                          });
 
-TEST(LeaderUnitTest, DeviceFailureZeroesTheForceLatchesAFaultAndAsksForAHold) {
+TEST(LeaderUnitTest, DeviceFailureZeroesTheForceLatchesAFaultAndEStops) {
   Harness h("sim", "proxy-safe");
   h.Run(0.5);
   ASSERT_EQ(h.unit.state(), LeaderState::kTracking);
+  EXPECT_EQ(h.link.estops, 0);
   h.sim().Inject(haptics::InjectedFault::kNonFinite, 5);
   h.Run(0.2);
   EXPECT_EQ(h.unit.state(), LeaderState::kDeviceFault);  // latched though the reads are good again
   EXPECT_EQ(h.unit.counters().device_failures, 1u);
+  EXPECT_EQ(h.link.estops, 1);  // once per failure, however many failed reads
   EXPECT_EQ(h.sim().last_force_O(), Eigen::Vector3d::Zero());
   EXPECT_TRUE(h.link.last.flags & kSetPointDeviceFault);
   EXPECT_FALSE(h.link.last.flags & kSetPointPresence);

@@ -124,6 +124,60 @@ TEST_F(SetPointValidatorTest, JudgesThePoseChangeOverTheSequenceStepsNotTheJitte
   EXPECT_EQ(v.CheckMessage(Message(5, 1.0030, far, cap_speed), 1.003, 1.003, s), SetPointVerdict::kTooFast);
 }
 
+TEST_F(SetPointValidatorTest, AForgedStampAndSequenceBuyNoLongerStepThanTheFollowersOwnClock) {
+  SetPointValidator v(model_, limits_);
+  SetPointSample s;
+  ASSERT_EQ(v.CheckMessage(Message(1, 0.0), 0.0, 0.0, s), SetPointVerdict::kAccepted);
+  // Stamp and sequence both jump by 1e9 (1e9 periods; 1 s of stamps) per message, arriving at 1 kHz on the
+  // follower's clock, each 1 mm farther: 1 m/s against the 10 mm/s cap.
+  const double step_m = 1e-3;
+  std::uint64_t accepted = 0;
+  for (int k = 1; k <= 100; ++k) {
+    const double arrival = 1e-3 * k;
+    const SetPointMessage m = Message(1 + 1'000'000'000ull * k, 1.0 * k, Eigen::Vector3d(step_m * k, 0, 0));
+    const SetPointVerdict verdict = v.CheckMessage(m, arrival, arrival, s);
+    EXPECT_EQ(verdict, SetPointVerdict::kTooFast) << k;
+    if (verdict == SetPointVerdict::kAccepted) ++accepted;
+  }
+  EXPECT_EQ(accepted, 0u);
+  // What an honest leader at the cap does over the same 100 ms of the follower's clock is still accepted.
+  SetPointValidator honest(model_, limits_);
+  const Eigen::Vector3d cap_speed(0.010, 0, 0);
+  for (int k = 0; k <= 100; ++k) {
+    const double t = 1e-3 * k;
+    ASSERT_EQ(honest.CheckMessage(Message(k + 1, t, cap_speed * t, cap_speed), t, t, s), SetPointVerdict::kAccepted)
+        << k;
+  }
+}
+
+TEST_F(SetPointValidatorTest, ForgedIntervalsNeverBuyAFasterSustainedSpeed) {
+  // Twice the cap, every step just inside what the per-step bound allows: the follower's credit (its own elapsed
+  // time plus arrival_allowance_s once) runs out, so the distance accepted is bounded by the cap over that time.
+  SetPointValidator v(model_, limits_);
+  SetPointSample s;
+  const double cap = limits_.caps.max_linear_speed_m_s;
+  ASSERT_EQ(v.CheckMessage(Message(1, 0.0), 0.0, 0.0, s), SetPointVerdict::kAccepted);
+  double x = 0;
+  for (int k = 1; k <= 1000; ++k) {
+    const double arrival = 1e-3 * k;
+    const SetPointMessage m = Message(1 + 1'000'000'000ull * k, 1.0 * k, Eigen::Vector3d(x + 2 * cap * 1e-3, 0, 0));
+    if (v.CheckMessage(m, arrival, arrival, s) == SetPointVerdict::kAccepted) x += 2 * cap * 1e-3;
+  }
+  EXPECT_LE(x, (1 + limits_.cap_tolerance) * cap * (1.0 + limits_.arrival_allowance_s) + 1e-12);
+  EXPECT_GT(x, 0.9 * cap * 1.0);  // and about the cap's worth was accepted: not a blanket refusal
+}
+
+TEST_F(SetPointValidatorTest, StampsAtTheEndsOfInt64AreJudgedWithoutOverflow) {
+  SetPointValidator v(model_, limits_);
+  SetPointSample s;
+  SetPointMessage m = Message(1, 0.0);
+  m.stamp_ns = std::numeric_limits<std::int64_t>::min();
+  ASSERT_EQ(v.CheckMessage(m, 0.0, 0.0, s), SetPointVerdict::kAccepted);
+  m = Message(2, 0.0, Eigen::Vector3d(1e-3, 0, 0));
+  m.stamp_ns = std::numeric_limits<std::int64_t>::max();  // 292 years of stamps for one period of motion
+  EXPECT_EQ(v.CheckMessage(m, 1e-3, 1e-3, s), SetPointVerdict::kTooFast);
+}
+
 TEST_F(SetPointValidatorTest, RejectsAJumpInVelocity) {
   SetPointValidator v(model_, limits_);
   SetPointSample s;

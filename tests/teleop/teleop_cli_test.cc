@@ -1,5 +1,7 @@
 // `robossis teleop --clock simulated` and `robossis replay` as a user runs them: the files, the summary's keys,
-// the replay reproducing the summary, and a one-line error on bad input.
+// the replay reproducing the summary, a one-line error on bad input, and `robossis estop` with nobody to hear it.
+
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -73,6 +75,19 @@ TEST(TeleopCliTest, BadInputIsOneLineNamingTheOption) {
   const auto dev = Robossis("teleop --device replay:/nonexistent.csv --duration-s 1 --out " + out.string());
   EXPECT_EQ(dev.exit_code, 1);
   EXPECT_NE(dev.output.find("robossis: error:"), std::string::npos) << dev.output;
+}
+
+TEST(TeleopCliTest, EStopWithoutAFollowerSaysSoAndFails) {
+  // A domain of this process's own, loopback only, unsecured (the warning is printed): nobody answers.
+  const std::string domain = std::to_string(1 + getpid() % 200);
+  const auto run = Robossis("estop --insecure --interface 127.0.0.1 --peer 127.0.0.1 --domain " + domain +
+                            " --timeout-s 0.3");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("robossis: error: estop: no follower heard within --timeout-s"), std::string::npos)
+      << run.output;
+  const auto bad = Robossis("estop --insecure --timeout-s 0");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("--timeout-s"), std::string::npos) << bad.output;
 }
 
 }  // namespace

@@ -66,6 +66,8 @@ class RecordingLeaderLink final : public LeaderLink {
     return true;
   }
   bool SendCommand(const StateCommandMessage&) noexcept override { return true; }
+  void SendEStop() noexcept override { ++estops; }
+  int estops = 0;
   bool follower_speaks = false;
   FollowerStatusMessage follower;
   std::vector<SetPointMessage> sent;

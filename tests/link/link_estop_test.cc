@@ -1,0 +1,156 @@
+// The E-stop over DDS: its own topic (rt/<ns>/estop), read by the follower link's receive thread into an atomic
+// count that the follower unit reads first every tick. A flood of commands fills the command queues (drops
+// counted), then an E-stop arrives; the drives must be off after the first 10 kHz tick following its arrival
+// (a simulated clock and the pulse recorder as the back end: ticks are counted, not wall time). The waits only
+// poll for what must happen (no timing assertions).
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "robot/actuation/pulse_recorder_follower.h"
+#include "src/core/rt/clock.h"
+#include "src/link/dds_follower_link.h"
+#include "src/link/dds_leader_link.h"
+#include "src/link/estop_sender.h"
+#include "src/teleop/follower_unit.h"
+#include "tests/link/link_test_support.h"
+#include "tests/teleop/follower_fixture.h"
+
+namespace robossis::link {
+namespace {
+
+using testing::LoopbackOptions;
+using testing::WaitFor;
+
+constexpr std::int64_t kTickNs = 100'000;  // 10 kHz
+
+enum class Sender { kLeaderEStop, kLeaderOldCommand, kPanelEStop };
+
+struct EStopCase {
+  Sender sender;
+  bool insecure;  // secured: the test credentials, which may not grant the estop topic yet (the "estop" command)
+};
+
+class LinkEStopTest : public ::testing::TestWithParam<EStopCase>, protected teleop::ShippedFollowerSetup {
+ protected:
+  const teleop::FollowerConfig config_ = ShippedFollowerConfig();
+  rt::SimulatedClock clock_;
+  actuation::PulseRecorderFollower back_end_{model_, actuation_, home_, 1 << 16, 1 << 16};
+
+  static teleop::StateCommandMessage Command(teleop::StateCommand c) {
+    teleop::StateCommandMessage m;
+    m.command = c;
+    m.source = teleop::kFromLeader;
+    return m;
+  }
+};
+
+std::string CaseName(const ::testing::TestParamInfo<EStopCase>& info) {
+  static const char* const kNames[] = {"LeaderEStop", "LeaderOldCommand", "PanelEStop"};
+  return std::string(kNames[static_cast<int>(info.param.sender)]) + (info.param.insecure ? "Unsecured" : "Secured");
+}
+
+TEST_P(LinkEStopTest, AnEStopBehindAFloodOfCommandsDisablesTheDrivesInOneTick) {
+  const bool insecure = GetParam().insecure;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, insecure), clock_);
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader, insecure));
+  teleop::FollowerUnit unit(model_, actuation_, config_, back_end_, follower, clock_);
+  const auto tick = [&] {
+    clock_.AdvanceNs(kTickNs);
+    unit.Tick();
+  };
+  // The leader hears the follower (commands are volatile: none may be sent before the match), then enables it.
+  ASSERT_TRUE(WaitFor([&] {
+    tick();
+    return leader.Statistics().followers_matched > 0 && leader.Statistics().state_received > 0;
+  }));
+  ASSERT_TRUE(leader.SendCommand(Command(teleop::StateCommand::kEnable)));
+  ASSERT_TRUE(WaitFor([&] {
+    tick();
+    return unit.state() == teleop::OperatingState::kReady;
+  }));
+  ASSERT_TRUE(back_end_.State().enabled);
+
+  // 10 000 commands while the unit does not tick: the leader's queue and the follower's fill up.
+  std::uint64_t refused = 0;
+  for (int i = 0; i < 10000; ++i) {
+    if (!leader.SendCommand(Command(teleop::StateCommand::kEnable))) ++refused;
+  }
+  EXPECT_GT(refused, 0u);
+  ASSERT_TRUE(WaitFor([&] {
+    leader.SendCommand(Command(teleop::StateCommand::kEnable));  // more, until the follower's queue overflows
+    return follower.Statistics().commands_dropped > 0;
+  }));
+
+  std::unique_ptr<DdsLeaderLink> panel;
+  switch (GetParam().sender) {
+    case Sender::kLeaderEStop: leader.SendEStop(); break;
+    case Sender::kLeaderOldCommand: EXPECT_TRUE(leader.SendCommand(Command(teleop::StateCommand::kEStop))); break;
+    case Sender::kPanelEStop:
+      // Another participant, joining now: its sample reaches the follower whatever the leader's queue holds.
+      panel = std::make_unique<DdsLeaderLink>(LoopbackOptions(Role::kPanel, insecure));
+      panel->SendEStop();
+      break;
+  }
+  ASSERT_TRUE(WaitFor([&] { return follower.EStopsEngaged() > 0; }));  // arrived (the unit has not ticked since)
+  int ticks = 0;
+  while (back_end_.State().enabled && ticks < 1000) {
+    tick();
+    ++ticks;
+  }
+  EXPECT_EQ(ticks, 1);
+  EXPECT_EQ(unit.state(), teleop::OperatingState::kEStop);
+  EXPECT_EQ(unit.reason(), teleop::FaultReason::kEStop);
+  if (insecure) {
+    EXPECT_TRUE(follower.Statistics().estop_topic);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Senders, LinkEStopTest,
+                         ::testing::Values(EStopCase{Sender::kLeaderEStop, true},
+                                           EStopCase{Sender::kLeaderOldCommand, true},
+                                           EStopCase{Sender::kPanelEStop, true},
+                                           EStopCase{Sender::kLeaderEStop, false}),
+                         CaseName);
+
+TEST(LinkEStopLateJoinerTest, AFollowerThatJoinsAfterTheEStopStillLearnsOfIt) {
+  // Transient-local: the sender's newest E-stop sample waits for a follower that was not there.
+  rt::SimulatedClock clock;
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader, true));
+  leader.SendEStop();
+  ASSERT_TRUE(WaitFor([&] { return leader.Statistics().estops_sent > 0; }));
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
+  EXPECT_TRUE(WaitFor([&] { return follower.EStopsEngaged() == 1; }));
+}
+
+TEST(LinkEStopSenderTest, TheCommandLinesEStopIsConfirmedByTheFollowersState) {
+  teleop::ShippedFollowerSetup setup;
+  const teleop::FollowerConfig config = setup.ShippedFollowerConfig();
+  rt::SimulatedClock clock;
+  actuation::PulseRecorderFollower back_end(setup.model_, setup.actuation_, setup.home_, 1 << 16, 1 << 16);
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
+  teleop::FollowerUnit unit(setup.model_, setup.actuation_, config, back_end, follower, clock);
+  // The follower ticks on its own thread (its clock simulated), started and always stopped here.
+  std::atomic<bool> stop{false};
+  std::thread ticker([&] {
+    while (!stop.load()) {
+      clock.AdvanceNs(kTickNs);
+      unit.Tick();
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  const EStopSendResult r = SendEStopAndConfirm(LoopbackOptions(Role::kPanel, true), 10.0);
+  stop.store(true);
+  ticker.join();
+  EXPECT_TRUE(r.follower_heard);
+  EXPECT_TRUE(r.confirmed);
+  EXPECT_EQ(unit.state(), teleop::OperatingState::kEStop);
+}
+
+}  // namespace
+}  // namespace robossis::link
