@@ -120,6 +120,7 @@ void SessionLogWriter::Append(std::uint8_t stream_id, const void* record) {
   const char* p = static_cast<const char*>(record);
   buffer_.insert(buffer_.end(), p, p + s.record_size);
   ++frames_;
+  if (buffer_.size() >= kSessionLogBufferBytes) Flush();
 }
 
 void SessionLogWriter::Flush() {
