@@ -1,10 +1,12 @@
 #include "src/teleop/follower_unit.h"
 
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "src/teleop/capped_motion.h"
+#include "src/teleop/follower_limits.h"
 
 namespace robossis::teleop {
 
@@ -120,6 +122,10 @@ void FollowerUnit::Tick() noexcept {
   inputs.clutched = (setpoint_flags_ & kSetPointClutched) != 0;
   inputs.have_valid_setpoint = live;
   inputs.leader_lost = lost;
+  if (recorder_failed_ != nullptr && recorder_failed_->load(std::memory_order_relaxed)) {
+    inputs.presence = false;  // unrecorded: hold (decelerate to rest within the caps), never follow again
+    inputs.have_valid_setpoint = false;
+  }
   const OperatingState before = machine_.state();
   machine_.Update(inputs, back_end_);
   // The leader's device failed (stale, NaN, lost): a latched fault here too, so that recovery needs a reset.
@@ -221,7 +227,10 @@ void FollowerUnit::Tick() noexcept {
   rec.guard_status = guarded.status;
   rec.actuation_status = static_cast<std::uint8_t>(out.status);
   rec.holding = !machine_.following();
-  if (!records_.TryPush(rec)) ++counters_.records_dropped;
+  if (!records_.TryPush(rec)) {
+    ++counters_.records_dropped;
+    if (recorder_failed_ != nullptr) recorder_failed_->store(true, std::memory_order_relaxed);  // a lost record
+  }
 }
 
 void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept {
