@@ -1,5 +1,6 @@
 #include "src/teleop/follower_unit.h"
 
+#include "src/teleop/follower_limits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,6 +39,7 @@ FollowerUnit::FollowerUnit(const robot::RsrModel& model, const actuation::Actuat
       actuator_(model, actuation, back_end.State().X_FM, clock.NowS()),
       records_(config.recorder_capacity) {
   X_cmd_ = back_end.State().X_FM;
+  limits_ = LimitsOf(config_);
   if (!robot::CalcInverseKinematics(model, X_cmd_).feasible) {
     throw std::invalid_argument("follower unit: the back end's measured pose is outside the joint limits");
   }
@@ -247,6 +249,7 @@ void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& me
   s.setpoints_rejected = counters_.setpoints_rejected;
   s.watchdog_holds = counters_.watchdog_holds;
   s.last_sequence = setpoint_sequence_;
+  s.limits = limits_;
   link_.PublishStatus(s);
   ++counters_.status_published;
 }

@@ -132,6 +132,7 @@ class FollowerUnit final : public rt::PeriodicTask {
   FollowerStateMachine machine_;
   rt::SpscQueue<FollowerTickRecord> records_;
   std::atomic<bool>* recorder_failed_ = nullptr;
+  FollowerLimits limits_;  // LimitsOf(config_): published with every status
   FollowerCounters counters_;
   FollowerTickRecord record_;
 

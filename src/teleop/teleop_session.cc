@@ -15,6 +15,7 @@
 #include "robot/sim/simulated_plant.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/flight_recorder.h"
+#include "src/teleop/follower_limits.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
@@ -63,6 +64,7 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.leader.max_linear_accel_m_s2 = s.follower.setpoint.max_linear_accel_m_s2;  // the follower's caps (follower.yaml)
   s.leader.max_angular_accel_rad_s2 = s.follower.setpoint.max_angular_accel_rad_s2;
   s.follower.setpoint.setpoint_period_s = 1.0 / s.transfer.rates.transfer_rate_hz;  // one set-point per transfer tick
+  s.follower.model_fingerprint = ModelFingerprint(config / "rsr.yaml");
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
   s.config_dir = config;
   return s;
@@ -388,6 +390,9 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
   TeleopRequest real = request;
   real.real_clock = true;
   rt::MonotonicClock clock;
+  // On two machines each reads its own configs: a follower validating against other limits would refuse the
+  // set-points (or judge them in another workspace), so the leader does not start.
+  CheckFollowerLimits(link, LimitsOf(setup.follower));
   LeaderSide leader = MakeLeaderSide(real, setup, link);
   // The operator's enable: sent once the follower is heard from (a command sent before the link has matched it
   // would be lost), and only if it is disabled (one that is homing, ready or following needs none).
