@@ -22,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -115,6 +116,10 @@ struct SessionLog {
   template <typename T>
   std::vector<T> Decode(const std::string& name, const StreamSpec& expected) const;
 };
+
+// Hands all of `bytes` to the kernel (write(2), again after EINTR or a short write). Throws std::runtime_error
+// "`what`: strerror" on a write error (a full disk).
+void WriteAll(int fd, std::string_view bytes, const std::string& what);
 
 // Bounds of a log read back. Size: an hour (the longest session) of 1 kHz leader and 10 kHz follower records of
 // under 512 bytes is ~20 GB; a larger file is not a log this program wrote. Values: every f64 of a record is finite

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "src/teleop/session_log.h"
+
 namespace robossis::teleop {
 
 StreamedTextFile::StreamedTextFile(const std::filesystem::path& file) : file_(file) {
@@ -31,16 +33,7 @@ void StreamedTextFile::Append(std::string& text) {
 }
 
 void StreamedTextFile::Flush() {
-  std::size_t done = 0;
-  while (done < pending_.size()) {
-    const ssize_t n = ::write(fd_, pending_.data() + done, pending_.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      pending_.erase(0, done);
-      throw std::runtime_error(file_.string() + ": write failed: " + std::strerror(errno));
-    }
-    done += static_cast<std::size_t>(n);
-  }
+  WriteAll(fd_, pending_, file_.string() + ": write failed");
   pending_.clear();
 }
 

@@ -140,6 +140,18 @@ class FollowerHoldTest : public ::testing::TestWithParam<double>, protected Ship
     }
     return still >= 100;
   }
+  // Holding from here: comes to rest within the stopping distance of its velocity now at the acceleration cap, and
+  // stays there while the leader's hand keeps moving.
+  void ExpectStopsWithinTheCapAndStays() {
+    const double v0 = CmdV().norm();
+    const Eigen::Vector3d p0 = CmdP();
+    ASSERT_TRUE(RunToRest(1.0));
+    EXPECT_LE((CmdP() - p0).norm(), v0 * v0 / (2 * a_cap_) + v0 * kTickS + 1e-12);
+    EXPECT_LE(max_accel_, a_cap_ * (1 + 1e-6));
+    const Eigen::Vector3d p_rest = CmdP();
+    Run(0.2);
+    EXPECT_EQ(CmdP(), p_rest);
+  }
 };
 
 TEST_P(FollowerHoldTest, ALeaderThatStopsAtTheSpeedCapHoldsWithin30MsAndStopsWithinTheCaps) {
@@ -172,15 +184,7 @@ TEST_P(FollowerHoldTest, PresenceReleasedAtTheSpeedCapDeceleratesWithinTheCap) {
   leader_flags_ = 0;  // the operator lets go; the set-points keep coming
   while (unit_.state() == OperatingState::kEnabled && tick_ < 100'000'000) Step();
   EXPECT_EQ(unit_.state(), OperatingState::kReady);
-  const double v0 = CmdV().norm();
-  const Eigen::Vector3d p0 = CmdP();
-  ASSERT_TRUE(RunToRest(1.0));
-  EXPECT_LE((CmdP() - p0).norm(), v0 * v0 / (2 * a_cap_) + v0 * kTickS + 1e-12);
-  EXPECT_LE(max_accel_, a_cap_ * (1 + 1e-6));
-  // At rest it stays at rest while the leader's hand keeps moving.
-  const Eigen::Vector3d p_rest = CmdP();
-  Run(0.2);
-  EXPECT_EQ(CmdP(), p_rest);
+  ExpectStopsWithinTheCapAndStays();
   EXPECT_EQ(unit_.counters().limit_violations, 0u);
 }
 
@@ -250,14 +254,7 @@ TEST_P(FollowerHoldTest, ARecorderFailureAtTheSpeedCapHoldsWithinTheCapsForGood)
   recorder_failed.store(true);
   Step();
   EXPECT_EQ(unit_.state(), OperatingState::kReady);  // holding from the next tick
-  const double v0 = CmdV().norm();
-  const Eigen::Vector3d p0 = CmdP();
-  ASSERT_TRUE(RunToRest(1.0));
-  EXPECT_LE((CmdP() - p0).norm(), v0 * v0 / (2 * a_cap_) + v0 * kTickS + 1e-12);
-  EXPECT_LE(max_accel_, a_cap_ * (1 + 1e-6));
-  const Eigen::Vector3d p_rest = CmdP();
-  Run(0.2);  // the leader's hand keeps moving, with presence
-  EXPECT_EQ(CmdP(), p_rest);
+  ExpectStopsWithinTheCapAndStays();                  // though the hand keeps moving, with presence
   EXPECT_EQ(unit_.state(), OperatingState::kReady);
   EXPECT_EQ(unit_.counters().setpoints_rejected, 0u);  // not the set-points' fault
 }
