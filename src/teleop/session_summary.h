@@ -6,6 +6,7 @@
 // other figure is a running one, and the delay estimate keeps at most kMaxDelaySamples set-points.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -33,10 +34,11 @@ struct SummaryOptions {
   double max_angular_speed_rad_s = std::numeric_limits<double>::infinity();
 };
 
-// [assumed] The hand-to-set-point delay is estimated over the first this many set-points sent (10 min at the 1 kHz
-// transfer rate, ~60 MB): the delay is the transfer's filters', the same all session long, and minutes of motion
-// judge it as well as hours; kept whole, an 8-hour run's series would take ~3 GB.
-inline constexpr std::size_t kMaxDelaySamples = 600'000;
+// [assumed] The hand-to-set-point delay is estimated over the first this many set-points sent (2^18: 4.4 min at the
+// 1 kHz transfer rate, ~28 MB; a power of two, so that the vectors' doubling ends exactly there): the delay is the
+// transfer's filters', the same all session long, and minutes of motion judge it as well as hours; kept whole, an
+// 8-hour run's series would take ~3 GB.
+inline constexpr std::size_t kMaxDelaySamples = std::size_t{1} << 18;
 
 class SessionSummary {
  public:
