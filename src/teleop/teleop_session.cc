@@ -340,11 +340,17 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     try {
       log.Append(kEndStream, &end);
       log.Flush();
-      csv.Flush();
       summary.SetEnd(end);
     } catch (const std::exception& e) {
       recorder_error = e.what();
     }
+  }
+  // What was recorded goes to the CSVs, after a failure of the log too (a failure of a CSV is named already).
+  try {
+    csv.Take(summary);
+    csv.Flush();
+  } catch (const std::exception& e) {
+    if (recorder_error.empty()) recorder_error = e.what();
   }
 
   TeleopOutputs out;
@@ -360,8 +366,10 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
                          (follower ? "; the follower held the robot at rest and the session ended" : "");
     out.summary["recorder_error"] = out.recorder_error;
   }
-  out.leader_csv = summary.leader_csv();
-  out.follower_csv = summary.follower_csv();
+  if (request.csv_dir.empty()) {  // else streamed: the files hold them, and these stay empty
+    out.leader_csv = summary.leader_csv();
+    out.follower_csv = summary.follower_csv();
+  }
   out.periods_csv = summary.PeriodsCsv();
   out.warnings = run.warnings;
   return out;

@@ -3,6 +3,7 @@
 // limit is ever crossed, nothing non-finite comes out, the follower follows; replaying the session log reproduces
 // the summary exactly.
 
+#include <algorithm>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -114,6 +115,9 @@ TEST(TeleopSessionTest, ARecorderThatFailsEndsTheRunAndNamesTheCause) {
   // Recorded up to the failure (after ~256 KiB of leader.csv, about a second), not the replay's 16 s.
   EXPECT_GT(out.summary["follower_ticks"].get<double>(), 0);
   EXPECT_LT(out.summary["follower_ticks"].get<double>(), 5.0 * 10000);
+  // follower.csv (still writable) holds what was recorded: 200 Hz rows up to the failure, not its header alone.
+  const std::string follower_csv = ReadTextFile(dir.path() / "follower.csv");
+  EXPECT_GT(std::count(follower_csv.begin(), follower_csv.end(), '\n'), 100);
 }
 
 TEST(TeleopSessionTest, BadRequestsNameTheOption) {
