@@ -1,7 +1,5 @@
 #include "src/teleop/follower_unit.h"
 
-#include "src/teleop/follower_limits.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
