@@ -129,10 +129,10 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
     }
     TeleopInputs inputs(context, *o, o->clock == "real");
     inputs.LoadAtlasIfNeeded(*o, out.staging());
+    inputs.request.csv_dir = out.staging();
     const teleop::TeleopOutputs outputs = teleop::RunTeleop(inputs.request, inputs.setup, out.Path("session.rlog"));
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    WriteTeleopOutputs(out, outputs, TeleopUnits::kBoth, !o->no_plots);
-    out.Commit();
+    CommitTeleopOutputs(out, outputs, TeleopUnits::kBoth, !o->no_plots);
     if (o->json) PrintJson(outputs.summary);
     else PrintOutcome("teleop", outputs.summary, o->out);
   });
@@ -170,12 +170,12 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
     std::cerr << "leader: follower authenticated and heard after "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count() << " s\n";
     StopOnSignals();
+    inputs.request.csv_dir = out.staging();
     teleop::TeleopOutputs outputs =
         teleop::RunLeader(inputs.request, inputs.setup, link, out.Path("session.rlog"), &g_stop);
     outputs.summary["link"] = link::ToJson(link.Statistics());
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    WriteTeleopOutputs(out, outputs, TeleopUnits::kLeader, false);
-    out.Commit();
+    CommitTeleopOutputs(out, outputs, TeleopUnits::kLeader, false);
     if (o->json) PrintJson(outputs.summary);
     else PrintOutcome("leader", outputs.summary, o->out);
   });
@@ -207,12 +207,12 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
     o->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
     link::DdsFollowerLink link(o->link_options, clock);
     StopOnSignals();
+    inputs.request.csv_dir = out.staging();
     teleop::TeleopOutputs outputs =
         teleop::RunFollower(inputs.request, inputs.setup, link, clock, out.Path("session.rlog"), &g_stop);
     outputs.summary["link"] = link::ToJson(link.Statistics());
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
-    WriteTeleopOutputs(out, outputs, TeleopUnits::kFollower, false);
-    out.Commit();
+    CommitTeleopOutputs(out, outputs, TeleopUnits::kFollower, false);
     if (o->json) PrintJson(outputs.summary);
     else PrintOutcome("follower", outputs.summary, o->out);
   });
@@ -267,11 +267,10 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
     StagedOutputDir out(r->out, output);
     const std::string units = outputs.summary["units"];
-    WriteTeleopOutputs(out, outputs,
-                       units == "leader" ? TeleopUnits::kLeader
-                                         : units == "follower" ? TeleopUnits::kFollower : TeleopUnits::kBoth,
-                       !r->no_plots);
-    out.Commit();
+    CommitTeleopOutputs(out, outputs,
+                        units == "leader" ? TeleopUnits::kLeader
+                                          : units == "follower" ? TeleopUnits::kFollower : TeleopUnits::kBoth,
+                        !r->no_plots);
     if (r->json) PrintJson(outputs.summary);
     else std::cout << "replay: " << r->log << " → " << r->out << "\n";
   });

@@ -2,6 +2,7 @@
 // simulated sigma.7 through the walls (proxy-safe) into the Bullet follower, both units on their own loops in real
 // time, every tick in a session log.
 
+#include <stdexcept>
 #include <string>
 
 #include "src/apps/demo_teleop_section.h"
@@ -31,6 +32,7 @@ void WriteTeleopSection(DemoContext& demo) {
   demo.out.Write("teleop/leader.csv", o.leader_csv);
   demo.out.Write("teleop/follower.csv", o.follower_csv);
   demo.out.Write("teleop/loop_periods.csv", o.periods_csv);
+  if (!o.recorder_error.empty()) throw std::runtime_error("demo teleop: " + o.recorder_error);
   const auto& s = o.summary;
   auto num = [&](const char* key, const char* format = "%.3g") { return FormatNumber(s[key].get<double>(), format); };
   demo.report << "## 8. Teleoperation: the leader and follower units in real time (src/teleop)\n\n"

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <stdexcept>
 
 #include <CLI/CLI.hpp>
 
@@ -72,15 +73,20 @@ void TeleopInputs::LoadAtlasIfNeeded(const TeleopCliOptions& o, const std::files
                       : geometry::BoundaryAtlas::Load(o.atlas));
 }
 
-void WriteTeleopOutputs(const StagedOutputDir& out, const teleop::TeleopOutputs& o, TeleopUnits units, bool plots) {
+void CommitTeleopOutputs(StagedOutputDir& out, const teleop::TeleopOutputs& o, TeleopUnits units, bool plots) {
   out.Write("summary.json", o.summary.dump(2) + "\n");
-  if (units != TeleopUnits::kFollower) out.Write("leader.csv", o.leader_csv);
-  if (units != TeleopUnits::kLeader) out.Write("follower.csv", o.follower_csv);
+  // An empty text (not even the header): the run streamed that CSV into the staging folder.
+  if (units != TeleopUnits::kFollower && !o.leader_csv.empty()) out.Write("leader.csv", o.leader_csv);
+  if (units != TeleopUnits::kLeader && !o.follower_csv.empty()) out.Write("follower.csv", o.follower_csv);
   out.Write("loop_periods.csv", o.periods_csv);
-  if (!plots || units != TeleopUnits::kBoth) return;
-  const PlotResult r = RunPlotScript("teleop_session.py", {"--dir", out.staging().string(), "--out",
-                                                           out.Path("teleop.png").string()});
-  if (!r.ok) std::cerr << "robossis: warning: teleop.png not rendered: " << r.message << "\n";
+  if (plots && units == TeleopUnits::kBoth && o.recorder_error.empty()) {
+    const PlotResult r = RunPlotScript("teleop_session.py", {"--dir", out.staging().string(), "--out",
+                                                             out.Path("teleop.png").string()});
+    if (!r.ok) std::cerr << "robossis: warning: teleop.png not rendered: " << r.message << "\n";
+  }
+  out.Commit();
+  if (!o.recorder_error.empty()) throw std::runtime_error(o.recorder_error + " (what was recorded: " +
+                                                          out.target().string() + ")");
 }
 
 }  // namespace robossis::apps

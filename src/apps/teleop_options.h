@@ -49,9 +49,9 @@ class TeleopInputs {
   teleop::TeleopRequest request;
 };
 
-// summary.json, loop_periods.csv and the units' CSVs (leader.csv, follower.csv) into `out`, and teleop.png when
-// both units ran and `plots` is true.
-void WriteTeleopOutputs(const StagedOutputDir& out, const teleop::TeleopOutputs& outputs, TeleopUnits units,
-                        bool plots);
+// summary.json, loop_periods.csv and the units' CSVs (leader.csv, follower.csv; those a run streamed into the staging
+// folder, request.csv_dir, are there already) into `out`, teleop.png when both units ran and `plots` is true, and
+// commits. A run whose recording failed: what was recorded is committed, then std::runtime_error names the cause.
+void CommitTeleopOutputs(StagedOutputDir& out, const teleop::TeleopOutputs& outputs, TeleopUnits units, bool plots);
 
 }  // namespace robossis::apps

@@ -144,6 +144,12 @@ void ToOperatingState(const teleop::FollowerStatusMessage& m, char* frame_id,
   w.setpoints_rejected = m.setpoints_rejected;
   w.watchdog_holds = m.watchdog_holds;
   w.last_sequence = m.last_sequence;
+  w.max_linear_speed_m_s = m.limits.max_linear_speed_m_s;
+  w.max_angular_speed_rad_s = m.limits.max_angular_speed_rad_s;
+  w.max_linear_accel_m_s2 = m.limits.max_linear_accel_m_s2;
+  w.max_angular_accel_rad_s2 = m.limits.max_angular_accel_rad_s2;
+  w.max_setpoint_age_s = m.limits.max_age_s;
+  w.model_fingerprint = m.limits.model_fingerprint;
 }
 
 void FromMeasuredCp(const geometry_msgs_msg_dds__PoseStamped_& w, teleop::FollowerStatusMessage& m) noexcept {
@@ -162,6 +168,12 @@ void FromOperatingState(const robossis_msgs_msg_dds__OperatingState_& w, teleop:
   m.setpoints_rejected = w.setpoints_rejected;
   m.watchdog_holds = w.watchdog_holds;
   m.last_sequence = w.last_sequence;
+  m.limits.max_linear_speed_m_s = w.max_linear_speed_m_s;
+  m.limits.max_angular_speed_rad_s = w.max_angular_speed_rad_s;
+  m.limits.max_linear_accel_m_s2 = w.max_linear_accel_m_s2;
+  m.limits.max_angular_accel_rad_s2 = w.max_angular_accel_rad_s2;
+  m.limits.max_age_s = w.max_setpoint_age_s;
+  m.limits.model_fingerprint = w.model_fingerprint;
 }
 
 }  // namespace robossis::link

@@ -86,8 +86,8 @@ StreamSpec EndStreamSpec() {
   return s;
 }
 
-FlightRecorder::FlightRecorder(SessionLogWriter& log, Drain drain, double flush_period_s)
-    : log_(log), drain_(std::move(drain)), flush_period_s_(flush_period_s) {}
+FlightRecorder::FlightRecorder(SessionLogWriter& log, Drain drain, double flush_period_s, std::atomic<bool>* failed)
+    : log_(log), drain_(std::move(drain)), flush_period_s_(flush_period_s), failed_(failed) {}
 
 FlightRecorder::~FlightRecorder() { Stop(); }
 
@@ -108,6 +108,7 @@ void FlightRecorder::Run() {
     }
   } catch (const std::exception& e) {
     error_ = e.what();
+    if (failed_ != nullptr) failed_->store(true);
   }
 }
 
@@ -120,6 +121,7 @@ std::string FlightRecorder::Stop() {
       log_.Flush();
     } catch (const std::exception& e) {
       if (error_.empty()) error_ = e.what();
+      if (failed_ != nullptr) failed_->store(true);
     }
   }
   return error_;

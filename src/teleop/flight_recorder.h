@@ -3,7 +3,8 @@
 // survives a crash. The loops push their records into their own SpscQueues; a logger thread (not real-time) drains
 // them every flush period, appends them to the log, hands the log to the kernel and passes each record on to
 // whoever summarises the run. A killed process loses at most one flush period of records (default 2 ms) plus what
-// sat in the queues.
+// sat in the queues. A drain or flush that throws ends the thread and sets the failure flag at once (the follower
+// holds: a motion is never left unrecorded); Stop() returns the error.
 //
 // Streams: 0 "leader" (LeaderTickRecord), 1 "follower" (FollowerTickRecord, when the follower unit is recorded).
 
@@ -55,7 +56,9 @@ class FlightRecorder {
   // Drains the queues into the log (and on to consumers); called on the logger thread, then once more at Stop().
   using Drain = std::function<void(SessionLogWriter& log)>;
 
-  FlightRecorder(SessionLogWriter& log, Drain drain, double flush_period_s = 0.002);
+  // `failed` (may be null) is set when the drain or a flush throws: the follower unit watching it holds the robot.
+  FlightRecorder(SessionLogWriter& log, Drain drain, double flush_period_s = 0.002,
+                 std::atomic<bool>* failed = nullptr);
   ~FlightRecorder();
   FlightRecorder(const FlightRecorder&) = delete;
   FlightRecorder& operator=(const FlightRecorder&) = delete;
@@ -69,6 +72,7 @@ class FlightRecorder {
   SessionLogWriter& log_;
   Drain drain_;
   double flush_period_s_;
+  std::atomic<bool>* failed_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
   std::string error_;

@@ -4,6 +4,7 @@
 // rsr.yaml: the follower refers to them, it does not copy them.
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 
 #include "haptics/transfer/transfer_config.h"
@@ -31,6 +32,9 @@ struct FollowerConfig {
   double status_rate_hz = 1000;       // [assumed] >= 100 Hz
   std::size_t recorder_capacity = 65536;  // [assumed]
   robot::FeasibleMotionConfig guard;
+  // ModelFingerprint of the rsr.yaml the model was loaded from (TeleopSetup::Load), published with the status so
+  // that a leader on another machine can tell it checks against another workspace. 0: not known.
+  std::uint64_t model_fingerprint = 0;
 
   // Throws std::invalid_argument naming the field.
   void Validate() const;

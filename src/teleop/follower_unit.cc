@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "src/teleop/capped_motion.h"
+#include "src/teleop/follower_limits.h"
 
 namespace robossis::teleop {
 
@@ -36,6 +37,7 @@ FollowerUnit::FollowerUnit(const robot::RsrModel& model, const actuation::Actuat
       actuator_(model, actuation, back_end.State().X_FM, clock.NowS()),
       records_(config.recorder_capacity) {
   X_cmd_ = back_end.State().X_FM;
+  limits_ = LimitsOf(config_);
   if (!robot::CalcInverseKinematics(model, X_cmd_).feasible) {
     throw std::invalid_argument("follower unit: the back end's measured pose is outside the joint limits");
   }
@@ -132,6 +134,10 @@ void FollowerUnit::Tick() noexcept {
   inputs.clutched = (setpoint_flags_ & kSetPointClutched) != 0;
   inputs.have_valid_setpoint = live;
   inputs.leader_lost = lost;
+  if (recorder_failed_ != nullptr && recorder_failed_->load(std::memory_order_relaxed)) {
+    inputs.presence = false;  // unrecorded: hold (decelerate to rest within the caps), never follow again
+    inputs.have_valid_setpoint = false;
+  }
   const OperatingState before = machine_.state();
   machine_.Update(inputs, back_end_);
   // The leader's device failed (stale, NaN, lost): a latched fault here too, so that recovery needs a reset.
@@ -233,7 +239,10 @@ void FollowerUnit::Tick() noexcept {
   rec.guard_status = guarded.status;
   rec.actuation_status = static_cast<std::uint8_t>(out.status);
   rec.holding = !machine_.following();
-  if (!records_.TryPush(rec)) ++counters_.records_dropped;
+  if (!records_.TryPush(rec)) {
+    ++counters_.records_dropped;
+    if (recorder_failed_ != nullptr) recorder_failed_->store(true, std::memory_order_relaxed);  // a lost record
+  }
 }
 
 void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept {
@@ -250,6 +259,7 @@ void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& me
   s.setpoints_rejected = counters_.setpoints_rejected;
   s.watchdog_holds = counters_.watchdog_holds;
   s.last_sequence = setpoint_sequence_;
+  s.limits = limits_;
   link_.PublishStatus(s);
   ++counters_.status_published;
 }

@@ -18,8 +18,11 @@
 // Watchdog: no valid set-point for hold_after_s -> the robot holds, decelerating from its commanded velocity to
 // rest within the acceleration caps, and stopping at a joint limit rather than crossing it (the guard); counted in
 // watchdog_holds. None for leader_lost_after_s -> the drives are disabled (reason kLeaderLost).
+// Recording: with a flight recorder watched (WatchRecorder), a recorder that failed, or a record the queue had no room
+// for, holds the robot for good as the watchdog does (the set-points are ignored): no motion goes unrecorded.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 
 #include <Eigen/Geometry>
@@ -108,6 +111,9 @@ class FollowerUnit final : public rt::PeriodicTask {
 
   // The flight recorder's end of the record queue (one consumer thread).
   bool TakeRecord(FollowerTickRecord& record) noexcept { return records_.TryPop(record); }
+  // The recorder's failure flag (set by the recorder on a write error, by this unit when its queue is full): once
+  // set, the unit holds. Call before the loop starts; the flag must outlive the ticks. Null: no recorder watched.
+  void WatchRecorder(std::atomic<bool>* failed) noexcept { recorder_failed_ = failed; }
 
   OperatingState state() const noexcept { return machine_.state(); }
   FaultReason reason() const noexcept { return machine_.reason(); }
@@ -129,6 +135,8 @@ class FollowerUnit final : public rt::PeriodicTask {
   actuation::Actuator actuator_;
   FollowerStateMachine machine_;
   rt::SpscQueue<FollowerTickRecord> records_;
+  std::atomic<bool>* recorder_failed_ = nullptr;
+  FollowerLimits limits_;  // LimitsOf(config_): published with every status
   FollowerCounters counters_;
   FollowerTickRecord record_;
   std::uint64_t estops_seen_ = 0;  // the link's E-stop count at the last tick (0: one engaged before start acts)

@@ -73,6 +73,17 @@ struct StateCommandMessage {
   std::uint8_t source = kFromCommandLine;  // a CommandSource
 };
 
+// The limits the follower validates set-points against (SI), carried by every status: a leader on another machine
+// compares its own copy with them before it starts (follower_limits.h).
+struct FollowerLimits {
+  double max_linear_speed_m_s = 0;
+  double max_angular_speed_rad_s = 0;
+  double max_linear_accel_m_s2 = 0;
+  double max_angular_accel_rad_s2 = 0;
+  double max_age_s = 0;                     // a set-point older than this at use is stale
+  std::uint64_t model_fingerprint = 0;      // of the workspace/model config (rsr.yaml) its IK checks against
+};
+
 // Follower → leader and watchers, at >= 100 Hz (CRTK `measured_cp`, `measured_js`, `operating_state`).
 struct FollowerStatusMessage {
   std::uint64_t sequence = 0;
@@ -88,6 +99,7 @@ struct FollowerStatusMessage {
   std::uint64_t setpoints_rejected = 0;
   std::uint64_t watchdog_holds = 0;
   std::uint64_t last_sequence = 0;          // sequence of the last accepted set-point
+  FollowerLimits limits;
 };
 
 }  // namespace robossis::teleop

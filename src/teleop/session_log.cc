@@ -120,18 +120,23 @@ void SessionLogWriter::Append(std::uint8_t stream_id, const void* record) {
   const char* p = static_cast<const char*>(record);
   buffer_.insert(buffer_.end(), p, p + s.record_size);
   ++frames_;
+  if (buffer_.size() >= kSessionLogBufferBytes) Flush();
 }
 
-void SessionLogWriter::Flush() {
+void WriteAll(int fd, std::string_view bytes, const std::string& what) {
   std::size_t done = 0;
-  while (done < buffer_.size()) {
-    const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      throw std::runtime_error(file_.string() + ": session log write failed: " + std::strerror(errno));
+      throw std::runtime_error(what + ": " + std::strerror(errno));
     }
     done += static_cast<std::size_t>(n);
   }
+}
+
+void SessionLogWriter::Flush() {
+  WriteAll(fd_, std::string_view(buffer_.data(), buffer_.size()), file_.string() + ": session log write failed");
   buffer_.clear();
 }
 

@@ -10,9 +10,11 @@
 //   frames                          u8 stream id, then record_size bytes of that stream's record
 // A frame cut short (the process was killed mid-write) is ignored by the reader; everything before it is kept.
 //
-// The writer buffers in user space and hands the buffer to the kernel (write(2)) on every Flush(); a killed process
-// loses only what was not yet flushed (the logger thread flushes every few milliseconds). Not real-time: the loops
-// never call it, they push records to SpscQueues that the logger thread drains.
+// The writer buffers in user space and hands the buffer to the kernel (write(2)) on every Flush(), and on its own
+// once kSessionLogBufferBytes are buffered, so that its memory stays flat however long the run (the simulated clock
+// flushes only at the end); a killed process loses only what was not yet flushed (the logger thread flushes every
+// few milliseconds). Not real-time: the loops never call it, they push records to SpscQueues that the logger thread
+// drains.
 
 #include <array>
 #include <cstddef>
@@ -20,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -69,6 +72,10 @@ FieldSpec Describe(const char* name, std::size_t offset, const char* unit) {
 #define ROBOSSIS_LOG_FIELD(Struct, member, unit) \
   ::robossis::teleop::detail::Describe<decltype(Struct::member)>(#member, offsetof(Struct, member), unit)
 
+// [assumed] The writer's buffer: at most this much (plus one record) waits in memory for a write(2); 1 MiB is ~1000
+// follower ticks, few enough write calls that the buffering still pays, small beside a run's other memory.
+inline constexpr std::size_t kSessionLogBufferBytes = std::size_t{1} << 20;
+
 class SessionLogWriter {
  public:
   // Creates (truncates) the file and writes the header. Throws std::runtime_error naming the file.
@@ -77,11 +84,13 @@ class SessionLogWriter {
   SessionLogWriter(const SessionLogWriter&) = delete;
   SessionLogWriter& operator=(const SessionLogWriter&) = delete;
 
-  // Appends one record of a stream (its record_size bytes at `record`).
+  // Appends one record of a stream (its record_size bytes at `record`); flushes once kSessionLogBufferBytes are
+  // buffered (then throws as Flush() does).
   void Append(std::uint8_t stream_id, const void* record);
   // Hands everything appended to the kernel. Throws std::runtime_error on a write error.
   void Flush();
   std::uint64_t frames() const { return frames_; }
+  std::size_t buffered_bytes() const { return buffer_.size(); }  // appended, not yet handed to the kernel
   const std::filesystem::path& file() const { return file_; }
 
  private:
@@ -107,6 +116,10 @@ struct SessionLog {
   template <typename T>
   std::vector<T> Decode(const std::string& name, const StreamSpec& expected) const;
 };
+
+// Hands all of `bytes` to the kernel (write(2), again after EINTR or a short write). Throws std::runtime_error
+// "`what`: strerror" on a write error (a full disk).
+void WriteAll(int fd, std::string_view bytes, const std::string& what);
 
 // Bounds of a log read back. Size: an hour (the longest session) of 1 kHz leader and 10 kHz follower records of
 // under 512 bytes is ~20 GB; a larger file is not a log this program wrote. Values: every f64 of a record is finite

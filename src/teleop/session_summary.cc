@@ -62,8 +62,8 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
   max_force_n_ = std::max(max_force_n_, Norm3(r.f_O));
   max_torque_nm_ = std::max(max_torque_nm_, Norm3(r.tau_O));
   max_hand_speed_m_s_ = std::max(max_hand_speed_m_s_, Norm3(r.v_O));
-  if (r.sent_this_tick) {
-    if (r.stopped_at_boundary) ++stopped_at_boundary_;
+  if (r.sent_this_tick && r.stopped_at_boundary) ++stopped_at_boundary_;
+  if (r.sent_this_tick && t_sent_.size() < kMaxDelaySamples) {
     t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
     ideal_.push_back(Eigen::Map<const Vector6d>(r.ideal_disp.data()));
     transfer_.push_back(Eigen::Map<const Vector6d>(r.transfer_disp.data()));
@@ -210,6 +210,13 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["max_hand_speed_mm_s"] = MToMm(max_hand_speed_m_s_);
   j["min_follower_limit_margin_si"] = follower_ticks_ ? min_margin_ : 0.0;
   return j;
+}
+
+void SessionSummary::MoveCsvTo(std::string& leader, std::string& follower) {
+  leader += leader_csv_;
+  follower += follower_csv_;
+  leader_csv_.clear();
+  follower_csv_.clear();
 }
 
 std::string SessionSummary::PeriodsCsv() const {

@@ -2,8 +2,11 @@
 // What a teleoperation run did, computed from the flight recorder's records alone (so that replaying a session log
 // reproduces the run's summary exactly): summary.json, leader.csv, follower.csv and the loop-period histograms.
 // Fed one record at a time (the logger thread during a run, the log reader in `robossis replay`); not real-time.
+// Its memory stays flat however long the run when the caller moves the CSV text out as it goes (MoveCsvTo): every
+// other figure is a running one, and the delay estimate keeps at most kMaxDelaySamples set-points.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -31,6 +34,12 @@ struct SummaryOptions {
   double max_angular_speed_rad_s = std::numeric_limits<double>::infinity();
 };
 
+// [assumed] The hand-to-set-point delay is estimated over the first this many set-points sent (2^18: 4.4 min at the
+// 1 kHz transfer rate, ~28 MB; a power of two, so that the vectors' doubling ends exactly there): the delay is the
+// transfer's filters', the same all session long, and minutes of motion judge it as well as hours; kept whole, an
+// 8-hour run's series would take ~3 GB.
+inline constexpr std::size_t kMaxDelaySamples = std::size_t{1} << 18;
+
 class SessionSummary {
  public:
   explicit SessionSummary(const SummaryOptions& options);
@@ -41,8 +50,11 @@ class SessionSummary {
 
   // The keys first, then the details.
   nlohmann::ordered_json Summary() const;
+  // The CSV text not yet moved out (all of it, the header first, if MoveCsvTo was never called).
   const std::string& leader_csv() const { return leader_csv_; }
   const std::string& follower_csv() const { return follower_csv_; }
+  // Appends the CSV text added since the last call to `leader` and `follower` and forgets it here.
+  void MoveCsvTo(std::string& leader, std::string& follower);
   // loop,period_us,count: the start-to-start intervals of each loop (1 µs bins), from the records.
   std::string PeriodsCsv() const;
 

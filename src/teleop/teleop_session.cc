@@ -1,5 +1,7 @@
 #include "src/teleop/teleop_session.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -13,11 +15,13 @@
 #include "robot/sim/simulated_plant.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/flight_recorder.h"
+#include "src/teleop/follower_limits.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
 #include "src/teleop/local_command_link.h"
 #include "src/teleop/session_summary.h"
+#include "src/teleop/streamed_text_file.h"
 
 namespace robossis::teleop {
 
@@ -60,6 +64,7 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.leader.max_linear_accel_m_s2 = s.follower.setpoint.max_linear_accel_m_s2;  // the follower's caps (follower.yaml)
   s.leader.max_angular_accel_rad_s2 = s.follower.setpoint.max_angular_accel_rad_s2;
   s.follower.setpoint.setpoint_period_s = 1.0 / s.transfer.rates.transfer_rate_hz;  // one set-point per transfer tick
+  s.follower.model_fingerprint = ModelFingerprint(config / "rsr.yaml");
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
   s.config_dir = config;
   return s;
@@ -156,8 +161,50 @@ struct RunClock {
   const rt::MonotonicClock* real = nullptr;
 };
 
+// The CSVs of a run with request.csv_dir set: the summary's text goes to the files as the run goes (the files of the
+// units run only). Without csv_dir, nothing: the summary keeps the text for TeleopOutputs.
+class SessionCsv {
+ public:
+  SessionCsv(const std::filesystem::path& dir, bool leader, bool follower) {
+    if (dir.empty()) return;
+    if (leader) leader_ = std::make_unique<StreamedTextFile>(dir / "leader.csv");
+    if (follower) follower_ = std::make_unique<StreamedTextFile>(dir / "follower.csv");
+    streaming_ = true;
+  }
+  void Take(SessionSummary& summary) {
+    if (!streaming_) return;
+    summary.MoveCsvTo(leader_text_, follower_text_);
+    if (leader_) leader_->Append(leader_text_);
+    if (follower_) follower_->Append(follower_text_);
+    leader_text_.clear();  // (a unit not run: its header only, not written)
+    follower_text_.clear();
+  }
+  void Flush() {
+    if (leader_) leader_->Flush();
+    if (follower_) follower_->Flush();
+  }
+
+ private:
+  bool streaming_ = false;
+  std::unique_ptr<StreamedTextFile> leader_, follower_;
+  std::string leader_text_, follower_text_;
+};
+
+// [assumed] After a recorder failure the session runs on for the deceleration from the speed caps at the
+// acceleration caps plus this margin, the follower holding, and then ends: the drives are unpowered at rest, not
+// mid-motion (unpowered, they stop where they are).
+inline constexpr double kRecorderFailureMargin_s = 0.5;
+
+double RecorderFailureRunOn_s(const FollowerConfig& follower) {
+  const SetPointLimits& l = follower.setpoint;
+  return std::max(l.caps.max_linear_speed_m_s / l.max_linear_accel_m_s2,
+                  l.caps.max_angular_speed_rad_s / l.max_angular_accel_rad_s2) +
+         kRecorderFailureMargin_s;
+}
+
 // Runs the sides given (either may be null, not both) on their loops, records every tick in `log_file`, and
-// computes the outputs. `background` runs on the calling thread beside the flight recorder's drain.
+// computes the outputs. `background` runs on the calling thread beside the flight recorder's drain. A recorder
+// failure (see FollowerUnit::WatchRecorder) holds the follower, ends the run and is named in recorder_error.
 TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, Units units, LeaderSide* leader,
                        FollowerSide* follower, RunClock clock, const std::filesystem::path& log_file,
                        const std::atomic<bool>* stop, const std::function<void(double)>& background) {
@@ -172,6 +219,10 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
   std::vector<StreamSpec> streams = {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()};
   SessionLogWriter log(log_file, meta, streams);
   SessionSummary summary(OptionsFromMeta(meta));
+  SessionCsv csv(request.csv_dir, leader != nullptr, follower != nullptr);
+  std::atomic<bool> recorder_failed{false};  // set by the recorder or the follower unit; the follower unit holds
+  std::string recorder_error;                // why (the simulated clock's drain; the real clock's recorder.Stop())
+  if (follower) follower->unit->WatchRecorder(&recorder_failed);
   const auto drain = [&](SessionLogWriter& w) {
     LeaderTickRecord l;
     while (leader && leader->unit->records().TryPop(l)) {
@@ -183,12 +234,19 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
       w.Append(kFollowerStream, &f);
       summary.AddFollower(f);
     }
+    csv.Take(summary);
   };
   // A replay ends the session 0.5 s after its last sample (the robot has come to rest).
   double ended_since_s = -1;
+  double failed_since_s = -1;
+  const double failure_run_on_s = RecorderFailureRunOn_s(setup.follower);
   const auto keep_going = [&](double now_s) {
     if (background) background(now_s);
     if (stop && stop->load(std::memory_order_relaxed)) return false;
+    if (recorder_failed.load(std::memory_order_relaxed)) {
+      if (failed_since_s < 0) failed_since_s = now_s;
+      if (now_s - failed_since_s >= failure_run_on_s) return false;
+    }
     if (!leader) return true;
     LeaderTickRecord latest;
     const bool ended = leader->unit->latest().Read(latest) &&
@@ -220,17 +278,27 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
 
   rt::RunResult run;
   if (clock.real) {
-    FlightRecorder recorder(log, drain);
+    FlightRecorder recorder(log, drain, 0.002, &recorder_failed);
     recorder.Start();
     run = rt::RunRealTime(*clock.real, tasks, request.duration_s, keep_going);
-    if (const std::string error = recorder.Stop(); !error.empty()) throw std::runtime_error(error);
+    recorder_error = recorder.Stop();
   } else {
+    // As the recorder thread does: the first error stops the draining and holds the follower.
+    const auto drain_once = [&] {
+      if (!recorder_error.empty()) return;
+      try {
+        drain(log);
+      } catch (const std::exception& e) {
+        recorder_error = e.what();
+        recorder_failed.store(true);
+      }
+    };
     run = rt::RunSimulated(*clock.simulated, tasks, request.duration_s, [&](double now_s) {
-      drain(log);
+      drain_once();
       if (leader) leader->renderer->StepSimulatedBackground(now_s);
       return keep_going(now_s);
     });
-    drain(log);
+    drain_once();
   }
 
   // The session is over: the device's forces off, the drives unpowered (they hold where they are).
@@ -264,15 +332,40 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     end.setpoints_rejected = c.setpoints_rejected;
     end.follower_records_dropped = c.records_dropped;
   }
-  log.Append(kEndStream, &end);
-  log.Flush();
-  summary.SetEnd(end);
+  if (recorder_error.empty()) {
+    try {
+      log.Append(kEndStream, &end);
+      log.Flush();
+      summary.SetEnd(end);
+    } catch (const std::exception& e) {
+      recorder_error = e.what();
+    }
+  }
+  // What was recorded goes to the CSVs, after a failure of the log too (a failure of a CSV is named already).
+  try {
+    csv.Take(summary);
+    csv.Flush();
+  } catch (const std::exception& e) {
+    if (recorder_error.empty()) recorder_error = e.what();
+  }
 
   TeleopOutputs out;
   out.summary = summary.Summary();
   out.summary["units"] = meta["units"];
-  out.leader_csv = summary.leader_csv();
-  out.follower_csv = summary.follower_csv();
+  if (recorder_error.empty() && recorder_failed.load()) {
+    recorder_error = "the flight recorder's queue was full (" +
+                     std::to_string(end.leader_records_dropped + end.follower_records_dropped) +
+                     " records dropped)";
+  }
+  if (!recorder_error.empty()) {
+    out.recorder_error = "recording failed: " + recorder_error +
+                         (follower ? "; the follower held the robot at rest and the session ended" : "");
+    out.summary["recorder_error"] = out.recorder_error;
+  }
+  if (request.csv_dir.empty()) {  // else streamed: the files hold them, and these stay empty
+    out.leader_csv = summary.leader_csv();
+    out.follower_csv = summary.follower_csv();
+  }
   out.periods_csv = summary.PeriodsCsv();
   out.warnings = run.warnings;
   return out;
@@ -301,6 +394,9 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
   TeleopRequest real = request;
   real.real_clock = true;
   rt::MonotonicClock clock;
+  // On two machines each reads its own configs: a follower validating against other limits would refuse the
+  // set-points (or judge them in another workspace), so the leader does not start.
+  CheckFollowerLimits(link, LimitsOf(setup.follower));
   LeaderSide leader = MakeLeaderSide(real, setup, link);
   RunClock run_clock;
   run_clock.real = &clock;

@@ -60,6 +60,9 @@ struct TeleopRequest {
   // itself when its leader was lost is enabled again from the panel or the follower's console).
   bool enable_at_start = true;
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the mesh methods' atlas
+  // Set: leader.csv and follower.csv (of the units run) are written into this folder as the run goes, and
+  // TeleopOutputs' CSV strings stay empty, so that memory stays flat however long the run. Empty: returned whole.
+  std::filesystem::path csv_dir;
 };
 
 struct TeleopOutputs {
@@ -68,6 +71,10 @@ struct TeleopOutputs {
   std::string follower_csv;
   std::string periods_csv;
   std::vector<std::string> warnings;  // real-time setup refused (SCHED_FIFO, mlockall)
+  // Not empty: recording failed (a write error, a full disk, the record queue full) and names the cause; the
+  // follower held the robot at rest from then on and the session ended. The rest holds what was recorded; the
+  // caller writes it and exits non-zero.
+  std::string recorder_error;
 };
 
 std::vector<std::string> KnownFollowers();  // sim, recorder, hal

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <ctime>
 #include <functional>
@@ -11,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <set>
+#include <stdexcept>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -22,6 +24,7 @@
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
 #include "src/link/keys.h"
+#include "src/teleop/follower_limits.h"
 #include "tests/link/link_test_support.h"
 #include "tests/support/alloc_counter.h"
 
@@ -64,6 +67,8 @@ teleop::FollowerStatusMessage MakeStatus(std::uint64_t sequence) {
   s.state = teleop::OperatingState::kEnabled;
   s.setpoints_accepted = 5;
   s.last_sequence = 9;
+  s.limits = {.max_linear_speed_m_s = 0.01, .max_angular_speed_rad_s = 0.0175, .max_linear_accel_m_s2 = 5,
+              .max_angular_accel_rad_s2 = 10.5, .max_age_s = 0.03, .model_fingerprint = 0xfeedbeef12345678ull};
   return s;
 }
 
@@ -125,6 +130,7 @@ void ExpectPairExchanges(bool insecure) {
   EXPECT_DOUBLE_EQ(status.q_FM[1], 1.0);
   EXPECT_DOUBLE_EQ(status.effort[3], 4.0);
   EXPECT_EQ(status.last_sequence, 9u);
+  EXPECT_EQ(teleop::CompareLimits(MakeStatus(1).limits, status.limits), "");  // the limits cross whole
 
   // State commands are the panel's.
   DdsLeaderLink panel(LoopbackOptions(Role::kPanel, insecure));
@@ -152,6 +158,34 @@ void ExpectPairExchanges(bool insecure) {
 
 TEST(DdsLink, SecuredPairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(false); }
 TEST(DdsLink, InsecurePairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(true); }
+
+// Two machines, one acceleration cap apart: the leader refuses to start, naming both values; equal, it starts.
+TEST(DdsLink, ALeaderWhoseLimitsDifferFromTheFollowersRefusesToStart) {
+  rt::MonotonicClock clock;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader, true));
+  std::atomic<bool> done{false};
+  std::thread publisher([&] {  // the follower's status stream (1 kHz on the robot)
+    for (std::uint64_t n = 1; !done.load(); ++n) {
+      follower.PublishStatus(MakeStatus(n));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  });
+  teleop::FollowerLimits mine = MakeStatus(1).limits;
+  EXPECT_NO_THROW(teleop::CheckFollowerLimits(leader, mine, 10.0));
+  mine.max_linear_accel_m_s2 = 2.5;
+  std::string error;
+  try {
+    teleop::CheckFollowerLimits(leader, mine, 10.0);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  done.store(true);
+  publisher.join();
+  EXPECT_EQ(error, "the leader refuses to start: set-point limit max_linear_accel_m_s2: the follower validates "
+                   "against 5, this leader's config has 2.5 (follower.yaml/transfer.yaml must be the same on both "
+                   "machines)");
+}
 
 TEST(DdsLink, RealTimeCallsAllocateNothing) {
   rt::MonotonicClock clock;

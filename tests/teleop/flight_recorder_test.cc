@@ -126,6 +126,25 @@ TEST(FlightRecorderTest, ALogCutShortKeepsEverythingBeforeTheCut) {
   std::filesystem::remove(file);
 }
 
+// A writer never flushed by its caller (the simulated clock's run) still hands its records to the kernel as it goes:
+// its buffer stays under kSessionLogBufferBytes plus one frame however many records, so the memory is flat.
+TEST(FlightRecorderTest, TheWritersBufferIsBoundedWithoutFlushes) {
+  const auto file = TempLog("robossis_fr_bounded.rlog");
+  const std::size_t frame = 1 + sizeof(LeaderTickRecord);
+  const std::uint64_t n = 4 * kSessionLogBufferBytes / frame;  // four buffers' worth
+  {
+    SessionLogWriter log(file, {}, {LeaderStreamSpec()});
+    for (std::uint64_t k = 0; k < n; ++k) {
+      const LeaderTickRecord r = Record(k);
+      log.Append(kLeaderStream, &r);
+      ASSERT_LT(log.buffered_bytes(), kSessionLogBufferBytes + frame) << "record " << k;
+    }
+    EXPECT_GE(std::filesystem::file_size(file), 3 * kSessionLogBufferBytes);  // on disk before the end
+  }
+  EXPECT_EQ(ReadSessionLog(file).Decode<LeaderTickRecord>("leader", LeaderStreamSpec()).size(), n);
+  std::filesystem::remove(file);
+}
+
 TEST(FlightRecorderTest, AKilledWriterLeavesAReadableLog) {
   const auto file = TempLog("robossis_fr_killed.rlog");
   std::filesystem::remove(file);

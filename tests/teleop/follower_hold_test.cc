@@ -1,6 +1,8 @@
 // The follower's hold: from the speed cap, the commanded motion decelerates to rest within the acceleration cap
-// (the validator's), reaches the hold state within the watchdog's 30 ms, and never crosses a joint limit.
+// (the validator's), reaches the hold state within the watchdog's 30 ms, and never crosses a joint limit; a failed
+// flight recorder holds it the same way.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 
@@ -138,6 +140,18 @@ class FollowerHoldTest : public ::testing::TestWithParam<double>, protected Ship
     }
     return still >= 100;
   }
+  // Holding from here: comes to rest within the stopping distance of its velocity now at the acceleration cap, and
+  // stays there while the leader's hand keeps moving.
+  void ExpectStopsWithinTheCapAndStays() {
+    const double v0 = CmdV().norm();
+    const Eigen::Vector3d p0 = CmdP();
+    ASSERT_TRUE(RunToRest(1.0));
+    EXPECT_LE((CmdP() - p0).norm(), v0 * v0 / (2 * a_cap_) + v0 * kTickS + 1e-12);
+    EXPECT_LE(max_accel_, a_cap_ * (1 + 1e-6));
+    const Eigen::Vector3d p_rest = CmdP();
+    Run(0.2);
+    EXPECT_EQ(CmdP(), p_rest);
+  }
 };
 
 TEST_P(FollowerHoldTest, ALeaderThatStopsAtTheSpeedCapHoldsWithin30MsAndStopsWithinTheCaps) {
@@ -170,15 +184,7 @@ TEST_P(FollowerHoldTest, PresenceReleasedAtTheSpeedCapDeceleratesWithinTheCap) {
   leader_flags_ = 0;  // the operator lets go; the set-points keep coming
   while (unit_.state() == OperatingState::kEnabled && tick_ < 100'000'000) Step();
   EXPECT_EQ(unit_.state(), OperatingState::kReady);
-  const double v0 = CmdV().norm();
-  const Eigen::Vector3d p0 = CmdP();
-  ASSERT_TRUE(RunToRest(1.0));
-  EXPECT_LE((CmdP() - p0).norm(), v0 * v0 / (2 * a_cap_) + v0 * kTickS + 1e-12);
-  EXPECT_LE(max_accel_, a_cap_ * (1 + 1e-6));
-  // At rest it stays at rest while the leader's hand keeps moving.
-  const Eigen::Vector3d p_rest = CmdP();
-  Run(0.2);
-  EXPECT_EQ(CmdP(), p_rest);
+  ExpectStopsWithinTheCapAndStays();
   EXPECT_EQ(unit_.counters().limit_violations, 0u);
 }
 
@@ -236,6 +242,71 @@ TEST_P(FollowerHoldTest, ALeaderThatStopsTurningAtTheAngularCapStopsWithinTheAng
             w_hold * w_hold / (2 * alpha_cap_) + w_hold * kTickS + 1e-9);
   EXPECT_LE(max_alpha_, alpha_cap_ * (1 + 1e-3));
   EXPECT_EQ(unit_.counters().limit_violations, 0u);
+}
+
+// A flight recorder that fails (a write error, a full disk) while the robot moves at the speed cap: the follower holds
+// as the watchdog does, decelerating to rest within the acceleration cap, though the set-points keep coming, and it
+// never follows again (nothing it would do could be recorded).
+TEST_P(FollowerHoldTest, ARecorderFailureAtTheSpeedCapHoldsWithinTheCapsForGood) {
+  std::atomic<bool> recorder_failed{false};
+  unit_.WatchRecorder(&recorder_failed);
+  CruiseAtTheCap();
+  recorder_failed.store(true);
+  Step();
+  EXPECT_EQ(unit_.state(), OperatingState::kReady);  // holding from the next tick
+  ExpectStopsWithinTheCapAndStays();                  // though the hand keeps moving, with presence
+  EXPECT_EQ(unit_.state(), OperatingState::kReady);
+  EXPECT_EQ(unit_.counters().setpoints_rejected, 0u);  // not the set-points' fault
+}
+
+// A record the recorder's queue has no room for is a motion unrecorded: the unit watching a recorder raises the
+// failure flag itself and holds (a unit with no recorder watched only counts it).
+TEST(FollowerRecorderTest, AFullRecordQueueHoldsTheRobot) {
+  const ShippedFollowerSetup s;
+  FollowerConfig config = s.ShippedFollowerConfig();
+  config.recorder_capacity = 64;
+  rt::SimulatedClock clock;
+  InProcessLink link(clock);
+  actuation::PulseRecorderFollower back_end(s.model_, s.actuation_, s.home_, 1 << 16, 1 << 16);
+  FollowerUnit unit(s.model_, s.actuation_, config, back_end, link, clock);
+  std::atomic<bool> recorder_failed{false};
+  unit.WatchRecorder(&recorder_failed);
+  StateCommandMessage enable;
+  enable.command = StateCommand::kEnable;
+  ASSERT_TRUE(link.operator_commands().Send(enable));
+  std::uint64_t sequence = 0;
+  const auto tick = [&](bool drain) {
+    clock.AdvanceNs(kTickNs);
+    if (clock.now_ns() % 1'000'000 == 0) {  // a 1 kHz leader holding still at home, with presence
+      SetPointMessage m;
+      m.sequence = ++sequence;
+      m.leader_session = 1;
+      m.stamp_ns = clock.now_ns();
+      const Eigen::Vector3d p = s.home_.translation();
+      const Eigen::Quaterniond q(s.home_.linear());
+      m.p_FM = {p.x(), p.y(), p.z()};
+      m.q_FM = {q.w(), q.x(), q.y(), q.z()};
+      m.flags = kSetPointPresence;
+      link.SendSetPoint(m);
+    }
+    unit.Tick();
+    FollowerTickRecord r;
+    while (drain && unit.TakeRecord(r)) {
+    }
+  };
+  for (int i = 0; i < 500; ++i) tick(true);  // 50 ms, drained: it follows
+  ASSERT_EQ(unit.state(), OperatingState::kEnabled);
+  ASSERT_FALSE(recorder_failed.load());
+  int ticks = 0;
+  while (unit.state() == OperatingState::kEnabled && ticks < 1000) {
+    tick(false);  // the recorder stalls
+    ++ticks;
+  }
+  EXPECT_TRUE(recorder_failed.load());
+  EXPECT_EQ(unit.state(), OperatingState::kReady);
+  EXPECT_GT(unit.counters().records_dropped, 0u);
+  for (int i = 0; i < 100; ++i) tick(true);  // the queue drains again: it still holds
+  EXPECT_EQ(unit.state(), OperatingState::kReady);
 }
 
 INSTANTIATE_TEST_SUITE_P(AccelerationCaps, FollowerHoldTest, ::testing::Values(0.0, 0.1),

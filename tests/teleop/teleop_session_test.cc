@@ -3,10 +3,13 @@
 // limit is ever crossed, nothing non-finite comes out, the follower follows; replaying the session log reproduces
 // the summary exactly.
 
+#include <algorithm>
 #include <filesystem>
 
 #include <gtest/gtest.h>
 
+#include "src/core/files.h"
+#include "src/teleop/streamed_text_file.h"
 #include "src/teleop/teleop_session.h"
 #include "tests/teleop/teleop_fixture.h"
 
@@ -74,6 +77,47 @@ TEST(TeleopSessionTest, BulletFollowerStaysInsideAndTheLogReproducesTheSummary) 
   EXPECT_EQ(replay.follower_csv, run.follower_csv);
   EXPECT_EQ(replay.leader_csv, run.leader_csv);
   std::filesystem::remove(log);
+}
+
+// With csv_dir the CSVs are written as the run goes (memory flat over a long run), byte for byte the ones returned
+// otherwise.
+TEST(TeleopSessionTest, StreamedCsvsAreTheReturnedOnes) {
+  const robossis::testing::ScratchDir dir("robossis_session_streamed");
+  std::filesystem::create_directories(dir.path());
+  TeleopRequest r = FastHandRequest("proxy-safe", "recorder");
+  r.duration_s = 3;
+  const TeleopOutputs whole = RunTeleop(r, FastSetup(), dir.path() / "whole.rlog");
+  r.csv_dir = dir.path();
+  const TeleopOutputs streamed = RunTeleop(r, FastSetup(), dir.path() / "streamed.rlog");
+  EXPECT_EQ(streamed.leader_csv, "");
+  EXPECT_EQ(streamed.follower_csv, "");
+  EXPECT_EQ(ReadTextFile(dir.path() / "leader.csv"), whole.leader_csv);
+  EXPECT_EQ(ReadTextFile(dir.path() / "follower.csv"), whole.follower_csv);
+  EXPECT_GT(whole.leader_csv.size(), 2 * kStreamedTextChunkBytes);  // several chunks were streamed
+  EXPECT_EQ(streamed.summary, whole.summary);
+  EXPECT_EQ(streamed.recorder_error, "");
+}
+
+// The recorder's sink fails mid-run (leader.csv on a full device, /dev/full): the follower holds, the session ends
+// soon after instead of running on unrecorded, and the outputs name the cause.
+TEST(TeleopSessionTest, ARecorderThatFailsEndsTheRunAndNamesTheCause) {
+  const robossis::testing::ScratchDir dir("robossis_session_full");
+  std::filesystem::create_directories(dir.path());
+  std::filesystem::create_symlink("/dev/full", dir.path() / "leader.csv");
+  TeleopRequest r = FastHandRequest("proxy-safe", "recorder");
+  r.csv_dir = dir.path();
+  const TeleopOutputs out = RunTeleop(r, FastSetup(), dir.path() / "session.rlog");
+  EXPECT_NE(out.recorder_error.find("leader.csv: write failed: No space left on device"), std::string::npos)
+      << out.recorder_error;
+  EXPECT_NE(out.recorder_error.find("the follower held the robot at rest"), std::string::npos);
+  EXPECT_EQ(out.summary["recorder_error"], out.recorder_error);
+  EXPECT_FALSE(out.summary["complete"].get<bool>());
+  // Recorded up to the failure (after ~256 KiB of leader.csv, about a second), not the replay's 16 s.
+  EXPECT_GT(out.summary["follower_ticks"].get<double>(), 0);
+  EXPECT_LT(out.summary["follower_ticks"].get<double>(), 5.0 * 10000);
+  // follower.csv (still writable) holds what was recorded: 200 Hz rows up to the failure, not its header alone.
+  const std::string follower_csv = ReadTextFile(dir.path() / "follower.csv");
+  EXPECT_GT(std::count(follower_csv.begin(), follower_csv.end(), '\n'), 100);
 }
 
 TEST(TeleopSessionTest, BadRequestsNameTheOption) {
