@@ -4,9 +4,12 @@
 // the summary exactly.
 
 #include <filesystem>
+#include <memory>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "robot/follower.h"
 #include "src/teleop/teleop_session.h"
 #include "tests/teleop/teleop_fixture.h"
 
@@ -74,6 +77,19 @@ TEST(TeleopSessionTest, BulletFollowerStaysInsideAndTheLogReproducesTheSummary) 
   EXPECT_EQ(replay.follower_csv, run.follower_csv);
   EXPECT_EQ(replay.leader_csv, run.leader_csv);
   std::filesystem::remove(log);
+}
+
+// The follower units that enable at their start by default are exactly those whose back ends measure their joints
+// (homed from their start); the HAL drives (not constructible without HAL) start disabled.
+TEST(TeleopSessionTest, OnlyBackEndsThatMeasureTheirJointsEnableAtStartByDefault) {
+  const TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  for (const std::string kind : {"sim", "recorder"}) {
+    const std::unique_ptr<robot::Follower> back_end = MakeFollowerBackEnd(kind, setup, 1);
+    EXPECT_TRUE(back_end->MeasuresJoints()) << kind;
+    EXPECT_TRUE(back_end->State().homed) << kind;
+    EXPECT_TRUE(EnablesAtStartByDefault(kind)) << kind;
+  }
+  EXPECT_FALSE(EnablesAtStartByDefault("hal"));
 }
 
 TEST(TeleopSessionTest, BadRequestsNameTheOption) {
