@@ -69,17 +69,35 @@ std::string FollowerReport(LocalSessionBackend& backend, const teleop::FollowerS
   return out.str();
 }
 
-TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
-  HalSession hal(StepgenHal());
+// The panel's own session on the HAL drives, as `robossis panel --follower hal` builds it, started.
+struct HalPanelSession {
+  static JogLimits Limits(const teleop::TeleopSetup& setup) {
+    JogLimits limits;
+    limits.setpoint = setup.follower.setpoint;
+    return limits;
+  }
+  HalPanelSession()
+      : backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation, Limits(setup),
+                setup.transfer.rates, clock) {
+    backend.Start();
+  }
   const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
   const robot::Sigma7Model sigma7 = robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml");
   const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model, sigma7);
-  JogLimits limits;
-  limits.setpoint = setup.follower.setpoint;
   const rt::MonotonicClock clock;
-  LocalSessionBackend backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation,
-                              limits, setup.transfer.rates, clock);
-  backend.Start();
+  LocalSessionBackend backend;
+};
+
+bool AnyStepgenEnabled() {
+  for (int m = 0; m < 6; ++m)
+    if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return true;
+  return false;
+}
+
+TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
+  HalSession hal(StepgenHal());
+  HalPanelSession session;
+  LocalSessionBackend& backend = session.backend;
 
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEnable));
@@ -113,13 +131,8 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   status = WaitFor(backend, 5, [](const auto& s) { return s.state == OperatingState::kEStop; });
   EXPECT_EQ(status.state, OperatingState::kEStop);
   // HAL's servo thread passes the dropped enables to the stepgens in its next period: polled, not slept for.
-  const auto any_enabled = [] {
-    for (int m = 0; m < 6; ++m)
-      if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return true;
-    return false;
-  };
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (any_enabled() && std::chrono::steady_clock::now() < until)
+  while (AnyStepgenEnabled() && std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   for (int m = 0; m < 6; ++m)
     EXPECT_FALSE(HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) << "motor " << m;
@@ -132,15 +145,8 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
 [[noreturn]] void RunFollowerUntilKilled(int fd, double jog_mm) {
   double moved_mm = -1;
   try {
-    const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
-    const robot::Sigma7Model sigma7 = robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml");
-    const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model, sigma7);
-    JogLimits limits;
-    limits.setpoint = setup.follower.setpoint;
-    const rt::MonotonicClock clock;
-    auto* backend = new LocalSessionBackend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower,
-                                            setup.actuation, limits, setup.transfer.rates, clock);  // never freed
-    backend->Start();
+    auto* session = new HalPanelSession;  // never freed: the process is killed
+    LocalSessionBackend* backend = &session->backend;
     backend->SendCommand(teleop::StateCommand::kHome);
     backend->SendCommand(teleop::StateCommand::kEnable);
     teleop::FollowerStatusMessage status =
@@ -150,7 +156,7 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
     jog.axis = JogAxis::kZ;
     jog.amount = MmToM(jog_mm);
     jog.timing = JogTiming::kSpeed;
-    jog.peak_speed = 0.9 * setup.follower.setpoint.caps.max_linear_speed_m_s;  // within the set-point caps
+    jog.peak_speed = 0.9 * session->setup.follower.setpoint.caps.max_linear_speed_m_s;  // within the set-point caps
     if (status.state == OperatingState::kReady && backend->StartJog(jog).accepted) {
       status = WaitFor(*backend, 60, [&](const auto& s) {
         return std::abs(MToMm(PoseOf(s).translation().z() - z0) - jog_mm) < 0.01;
@@ -191,26 +197,15 @@ TEST(PanelHalTest, AKilledFollowerRestartsDisabledAndUnhomedAndRefusesEnableUnti
   std::printf("the killed follower had moved the robot %.3f mm\n", moved_mm);
   EXPECT_NEAR(moved_mm, 20, 0.01) << "the follower did not make its move before it was killed";
   // HAL's watchdog cut the drives when the killed follower's heartbeat stopped.
-  const auto all_cut = [] {
-    for (int m = 0; m < 6; ++m)
-      if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return false;
-    return true;
-  };
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!all_cut() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  EXPECT_TRUE(all_cut()) << "HAL's watchdog did not cut the killed follower's drives";
+  while (AnyStepgenEnabled() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_FALSE(AnyStepgenEnabled()) << "HAL's watchdog did not cut the killed follower's drives";
   hal.reset();
   hal = std::make_unique<HalSession>(StepgenHal());
 
-  const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
-  const robot::Sigma7Model sigma7 = robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml");
-  const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model, sigma7);
-  JogLimits limits;
-  limits.setpoint = setup.follower.setpoint;
-  const rt::MonotonicClock clock;
-  LocalSessionBackend backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation,
-                              limits, setup.transfer.rates, clock);
-  backend.Start();
+  HalPanelSession session;
+  LocalSessionBackend& backend = session.backend;
   teleop::FollowerStatusMessage status = WaitFor(backend, 10, [](const auto&) { return true; });
   EXPECT_EQ(status.state, OperatingState::kDisabled);
   EXPECT_FALSE(status.homed);
@@ -221,8 +216,8 @@ TEST(PanelHalTest, AKilledFollowerRestartsDisabledAndUnhomedAndRefusesEnableUnti
   EXPECT_EQ(status.state, OperatingState::kDisabled) << teleop::ToString(status.state);
   EXPECT_EQ(status.fault_reason, teleop::FaultReason::kNotHomed) << teleop::ToString(status.fault_reason);
   EXPECT_FALSE(status.homed);
-  EXPECT_NE(BuildViewModel(model, status).refusal_text.find("not homed"), std::string::npos);
-  for (int m = 0; m < 6; ++m) EXPECT_FALSE(HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) << m;
+  EXPECT_NE(BuildViewModel(session.model, status).refusal_text.find("not homed"), std::string::npos);
+  EXPECT_FALSE(AnyStepgenEnabled());
 
   // The operator homes it (the robot stands at its home pose now), then enables it.
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));
