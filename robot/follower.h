@@ -4,8 +4,15 @@
 // the pulse recorder and the real motor drives (LinuxCNC HAL), all behind this one interface.
 //
 // What a driver needs, and why each call is here: drives are powered (Enable) and unpowered (Disable, which holds
-// the brakes or the current position); incremental encoders need a reference (Home); a latched drive fault needs an
-// explicit acknowledgement (ResetFault). Service() is the back end's periodic work at the follower's servo rate
+// the brakes or the current position); incremental encoders and open-loop steppers need a reference (Home); a latched
+// drive fault needs an explicit acknowledgement (ResetFault).
+//
+// Homing is the operator's explicit action, never a side effect of Enable (the follower's state machine refuses an
+// enable while unhomed). What Home() means depends on MeasuresJoints(): a back end that measures its joints'
+// absolute position (the Bullet simulation's physics, the pulse recorder whose command is its position, an absolute
+// encoder) references itself from that measurement and reports homed from its start; one that does not (step/
+// direction drives counting their own steps) starts unhomed after every start, and its Home() is the operator's
+// declaration "the robot stands at its home pose now". Service() is the back end's periodic work at the follower's servo rate
 // (exchange HAL pins, take the simulated robot's newest measurement), called by the follower unit after Command().
 
 #include <cstdint>
@@ -60,8 +67,12 @@ class Follower {
   virtual bool Enable() noexcept = 0;
   // Unpowers the drives; they hold where they are.
   virtual void Disable() noexcept = 0;
-  // References the joints. Back ends with absolute feedback (the simulation) are homed from the start.
+  // References the joints: from the measurement where MeasuresJoints(), else at the present position, which the
+  // operator declares to be the home pose. False (nothing changes) while the back end cannot reference yet.
   virtual bool Home() noexcept = 0;
+  // True if the back end measures its joints' absolute position (then it is homed from its start); false for
+  // open-loop drives, whose position is only the count of the steps they were sent (homed by the operator).
+  virtual bool MeasuresJoints() const noexcept = 0;
   // Clears the back end's latched fault if its cause is gone; false otherwise. The drives stay disabled.
   virtual bool ResetFault() noexcept = 0;
   // The joint set-point; ignored unless enabled.

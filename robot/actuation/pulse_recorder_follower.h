@@ -26,6 +26,7 @@ class PulseRecorderFollower final : public robot::Follower {
   bool Enable() noexcept override;
   void Disable() noexcept override { state_.enabled = false; }
   bool Home() noexcept override { return true; }  // the command is the position: referenced from the start
+  bool MeasuresJoints() const noexcept override { return true; }
   bool ResetFault() noexcept override;
   void Command(const robot::RsrJointCommand& command) noexcept override;
   void Service(double now_s) noexcept override;

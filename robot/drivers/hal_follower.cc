@@ -1,5 +1,6 @@
 #include "robot/drivers/hal_follower.h"
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -136,9 +137,22 @@ void HalFollower::HoldAtFeedback() noexcept {
 }
 
 void HalFollower::WriteEnables(bool on) noexcept {
+  if (!on) {
+    *pins_->enabled = false;
+    low_at_ = handshakes_;
+  }
+  // The low level is in shared memory before any later heartbeat write (the servo thread runs on another core).
+  std::atomic_thread_fence(std::memory_order_seq_cst);
   for (int i = 0; i < kJoints; ++i) *pins_->enable[i] = on;
-  *pins_->enabled = on;
   state_.enabled = on;
+  rearm_pending_ = on;
+  RearmWhenSeenLow();
+}
+
+void HalFollower::RearmWhenSeenLow() noexcept {
+  if (!rearm_pending_ || handshakes_ < low_at_ + kRearmHandshakes) return;
+  *pins_->enabled = true;  // a rising edge HAL's watchdog is sure to see: it re-arms
+  rearm_pending_ = false;
 }
 
 void HalFollower::Latch(FollowerFault fault) noexcept {
@@ -196,6 +210,7 @@ void HalFollower::Service(double now_s) noexcept {
   // (HAL's watchdog sees the follower alive); a stopped servo thread freezes the echo (lost feedback).
   if (*pins_->watchdog_echo == !watchdog_) {
     echo_seen_ = true;
+    ++handshakes_;
     last_alive_s_ = now_s;
     watchdog_ = !watchdog_;
     *pins_->watchdog = watchdog_;
@@ -207,6 +222,7 @@ void HalFollower::Service(double now_s) noexcept {
 
   if (*pins_->fault) Latch(FollowerFault::kExternal);
   if (echo_seen_ && !FeedbackAlive()) Latch(FollowerFault::kFeedbackLost);
+  RearmWhenSeenLow();
 
   RsrJointVector q;
   for (int i = 0; i < kJoints; ++i) q[i] = q_home_[i] + *pins_->pos_fb[i] - fb_home_[i];

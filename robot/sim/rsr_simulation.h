@@ -64,7 +64,8 @@ class RsrSimulation final : public robot::Follower {
   // fault of the steps it made.
   bool Enable() noexcept override;
   void Disable() noexcept override;
-  bool Home() noexcept override { return true; }
+  bool Home() noexcept override { return true; }  // the physics' joint positions: homed from the start
+  bool MeasuresJoints() const noexcept override { return true; }
   bool ResetFault() noexcept override;
   void Command(const robot::RsrJointCommand& command) noexcept override;
   void Service(double now_s) noexcept override;

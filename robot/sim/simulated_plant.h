@@ -41,6 +41,7 @@ class SimulatedPlant final : public robot::Follower, public rt::PeriodicTask {
   bool Enable() noexcept override;
   void Disable() noexcept override;
   bool Home() noexcept override { return true; }  // absolute feedback: homed from the start
+  bool MeasuresJoints() const noexcept override { return true; }
   bool ResetFault() noexcept override;
   void Command(const robot::RsrJointCommand& command) noexcept override;
   void Service(double now_s) noexcept override;

@@ -106,6 +106,10 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
                        std::to_string(o->rate_hz)};
       if (!o->atlas.empty()) r.leader_args.insert(r.leader_args.end(), {"--atlas", o->atlas});
       r.follower_args = {"--follower", o->follower};
+      // The follower process decides its start commands from the same flags.
+      if (o->home) r.follower_args.push_back("--home");
+      if (o->enable) r.follower_args.push_back("--enable");
+      if (o->no_enable) r.follower_args.push_back("--no-enable");
       for (auto* args : {&r.leader_args, &r.follower_args}) {
         const auto caps = CapArgs(*o);
         args->insert(args->end(), caps.begin(), caps.end());
@@ -184,7 +188,6 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
 void RegisterFollower(CLI::App& app, const AppContext& context) {
   struct Options : TeleopCliOptions {
     link::LinkOptions link_options;
-    bool no_enable = false;
   };
   auto o = std::make_shared<Options>();
   o->duration_s = 3600;
@@ -194,14 +197,11 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
                   "10 kHz actuation into its back end until stopped (Ctrl-C) or --duration-s; real time");
   AddTeleopOptions(*cmd, *o, TeleopUnits::kFollower);
   AddLinkOptions(*cmd, o->link_options);
-  cmd->add_flag("--no-enable", o->no_enable,
-                "Start disabled (default: enable at start: home, then follow once a leader with presence is heard)");
   cmd->callback([o, &context] {
     const OutputPolicy output = TeleopOutputPolicy(context, *o, o->link_options);
     output.CheckFolder("--out", o->out);
     CheckLinkOptions(o->link_options, std::cerr);
     TeleopInputs inputs(context, *o, true);
-    inputs.request.enable_at_start = !o->no_enable;
     StagedOutputDir out(o->out, output);
     rt::MonotonicClock clock;
     o->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));

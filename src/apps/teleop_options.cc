@@ -31,6 +31,14 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
                    "sim (Bullet) | recorder (pulse recorder) | hal (step/direction drives through LinuxCNC HAL, "
                    "hal.yaml)")
         ->capture_default_str();
+    cmd.add_flag("--home", o.home,
+                 "Home at start. For --follower hal this is the operator's declaration that the robot stands at its "
+                 "home pose now: step/direction drives cannot measure where they are, so the HAL follower starts "
+                 "unhomed after every start (a crash, a power cut, a moved robot) and refuses enable until homed. "
+                 "sim and recorder measure their joints and are homed from their start");
+    CLI::Option* enable = cmd.add_flag(
+        "--enable", o.enable, "Enable at start, after --home (default for sim and recorder; refused while unhomed)");
+    cmd.add_flag("--no-enable", o.no_enable, "Start disabled (default for --follower hal)")->excludes(enable);
   }
   cmd.add_option("--duration-s", o.duration_s, "Run time (a replay ends 0.5 s after its last sample)")
       ->capture_default_str();
@@ -61,6 +69,8 @@ TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o,
   request.method =
       o.method ? haptics::ParseMethodName(*o.method, "--method") : setup.haptics.hardware_default_method;
   request.follower = o.follower;
+  request.home_at_start = o.home;
+  request.enable_at_start = o.enable || (!o.no_enable && teleop::EnablesAtStartByDefault(o.follower));
   request.rate_hz = o.rate_hz;
   request.duration_s = o.duration_s;
   request.real_clock = real_clock;

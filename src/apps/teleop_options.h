@@ -24,6 +24,10 @@ struct TeleopCliOptions {
   std::optional<double> max_angular_speed_deg_s;
   bool no_plots = false;
   bool json = false;
+  // The follower's start commands (teleop::TeleopRequest::home_at_start, enable_at_start).
+  bool home = false;
+  bool enable = false;
+  bool no_enable = false;
 };
 
 // Which unit's options a command takes.

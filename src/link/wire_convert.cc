@@ -133,8 +133,7 @@ void ToOperatingState(const teleop::FollowerStatusMessage& m, char* frame_id,
   w.header.stamp = ToTime(m.stamp_ns);
   w.header.frame_id = frame_id;
   w.state = const_cast<char*>(OperatingStateName(m.state));
-  w.is_homed = m.state == teleop::OperatingState::kReady || m.state == teleop::OperatingState::kEnabled ||
-               m.state == teleop::OperatingState::kClutched;
+  w.is_homed = m.homed;
   w.is_busy = m.state == teleop::OperatingState::kHoming;
   w.seq = m.sequence;
   w.stamp_ns = m.stamp_ns;
@@ -161,7 +160,8 @@ void FromOperatingState(const robossis_msgs_msg_dds__OperatingState_& w, teleop:
   teleop::OperatingState s;
   m.state = ParseOperatingStateName(w.state, s) ? s : teleop::OperatingState::kFault;
   m.sequence = w.seq;
-  m.fault_reason = w.fault_reason <= static_cast<std::uint8_t>(teleop::FaultReason::kEStop)
+  m.homed = w.is_homed;
+  m.fault_reason = w.fault_reason <= static_cast<std::uint8_t>(teleop::FaultReason::kNotHomed)
                        ? static_cast<teleop::FaultReason>(w.fault_reason) : teleop::FaultReason::kBackEnd;
   m.back_end_fault = w.back_end_fault;
   m.setpoints_accepted = w.setpoints_accepted;

@@ -35,6 +35,7 @@ void PanelController::Update(double now_s) {
   if (backend_.ReadStatus(status)) {
     view_ = BuildViewModel(model_, status);
     if (!view_.fault_text.empty()) last_fault_ = view_.fault_text;
+    if (message_.empty()) message_ = view_.refusal_text;  // the follower's own refusal, while its status carries it
     // Moved: by more than 1 um or 1 urad, far below a motor step (5 um, 0.3 mrad), above a simulation's noise.
     bool moved = false;
     for (std::size_t i = 0; i < status.joints.size(); ++i)
@@ -156,7 +157,12 @@ void PanelController::Click(const std::string& button) {
   if (button == "jog.stop") return StopJog();
   if (button == "estop") return SendCommand(StateCommand::kEStop);
   if (button == "reset") return SendCommand(StateCommand::kReset);
-  if (button == "home") return SendCommand(StateCommand::kHome);
+  if (button == "home") {
+    // Disabled in the window unless it makes sense (view_model.h); a script's click is refused the same way.
+    if (view_.has_status && !view_.home_allowed)
+      return Refused("home: only a disabled follower is homed (it is " + view_.state_name + ")");
+    return SendCommand(StateCommand::kHome);
+  }
   if (button == "enable") return SendCommand(StateCommand::kEnable);
   if (button == "disable") return SendCommand(StateCommand::kDisable);
   if (button == "haptic.on") return SetHapticEnabled(true);

@@ -30,7 +30,11 @@ PanelViewModel BuildViewModel(const robot::RsrModel& model, const teleop::Follow
   view.state = status.state;
   view.state_name = teleop::ToString(status.state);
   view.latched = status.state == teleop::OperatingState::kFault || status.state == teleop::OperatingState::kEStop;
-  if (status.fault_reason != teleop::FaultReason::kNone) {
+  view.homed = status.homed;
+  view.home_allowed = status.state == teleop::OperatingState::kDisabled;
+  if (status.fault_reason == teleop::FaultReason::kNotHomed) {
+    view.refusal_text = "enable refused: not homed (Home with the robot at its home pose, then Enable)";
+  } else if (status.fault_reason != teleop::FaultReason::kNone) {
     view.fault_text = teleop::ToString(status.fault_reason);
     if (status.fault_reason == teleop::FaultReason::kBackEnd)
       view.fault_text += std::string(": ") + robot::ToString(static_cast<robot::FollowerFault>(status.back_end_fault));

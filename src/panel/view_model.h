@@ -32,7 +32,12 @@ struct PanelViewModel {
   teleop::OperatingState state = teleop::OperatingState::kDisabled;
   std::string state_name;
   std::string fault_text;               // "" when no fault is latched
+  std::string refusal_text;             // why the follower refused the last enable; "" when it did not
   bool latched = false;                 // E-stop or fault: a reset is needed
+  bool homed = false;                   // the follower's joints are referenced
+  // The Home button makes sense only on a disabled follower: a latched one needs a reset first, a homing one is on
+  // its way, a powered one is homed (and is not re-referenced while it holds or moves).
+  bool home_allowed = false;
   std::array<JointGauge, 9> gauges{};   // per arm: rotary, stroke, spherical cone
   bool feasible = true;
 };

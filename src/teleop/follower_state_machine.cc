@@ -4,7 +4,36 @@ namespace robossis::teleop {
 
 void FollowerStateMachine::Enter(OperatingState next) noexcept {
   if (next != state_) ++transitions_;
+  if (next != OperatingState::kHoming) enable_after_homing_ = false;  // a pending enable dies with the homing
   state_ = next;
+}
+
+bool FollowerStateMachine::OnHome(robot::Follower& back_end) noexcept {
+  if (state_ == OperatingState::kHoming) return true;
+  // Only a disabled robot is referenced: a powered one is already homed (and referencing a moving robot is
+  // meaningless); the latched states need a reset first.
+  if (state_ != OperatingState::kDisabled) return false;
+  reason_ = FaultReason::kNone;
+  // A back end that cannot reference yet (the HAL drives before their first feedback) is asked again each tick.
+  if (!back_end.Home() || !back_end.State().homed) Enter(OperatingState::kHoming);
+  return true;
+}
+
+bool FollowerStateMachine::OnEnable(robot::Follower& back_end) noexcept {
+  if (state_ == OperatingState::kHoming) {
+    enable_after_homing_ = true;  // the operator homed, then enabled: enable once the homing is done
+    return true;
+  }
+  // Already on: an enable is idempotent; latched states refuse it.
+  if (state_ != OperatingState::kDisabled) return powered();
+  if (!back_end.State().homed) {
+    reason_ = FaultReason::kNotHomed;  // refused, and never homed here: homing is the operator's explicit action
+    return false;
+  }
+  reason_ = FaultReason::kNone;
+  if (!back_end.Enable()) return false;
+  Enter(OperatingState::kReady);
+  return true;
 }
 
 bool FollowerStateMachine::OnCommand(StateCommand command, robot::Follower& back_end) noexcept {
@@ -37,20 +66,9 @@ bool FollowerStateMachine::OnCommand(StateCommand command, robot::Follower& back
       Enter(OperatingState::kDisabled);
       return true;
     case StateCommand::kHome:
+      return OnHome(back_end);
     case StateCommand::kEnable:
-      if (state_ != OperatingState::kDisabled) {
-        // Already on the way (or on): an enable is idempotent; latched states refuse it.
-        return state_ == OperatingState::kHoming || powered();
-      }
-      reason_ = FaultReason::kNone;
-      if (!back_end.State().homed) {
-        back_end.Home();
-        Enter(OperatingState::kHoming);
-        return true;
-      }
-      if (!back_end.Enable()) return false;
-      Enter(OperatingState::kReady);
-      return true;
+      return OnEnable(back_end);
   }
   return false;
 }
@@ -71,15 +89,15 @@ void FollowerStateMachine::Update(const FollowerInputs& in, robot::Follower& bac
   }
   switch (state_) {
     case OperatingState::kHoming:
-      // A back end that cannot reference yet (the HAL drives before their first feedback) is asked again each tick.
       if (!be.homed) back_end.Home();
-      if (back_end.State().homed) {
-        if (back_end.Enable()) {
-          Enter(OperatingState::kReady);
-        } else {
-          back_end_fault_ = be.fault;
-          RaiseFault(FaultReason::kBackEnd, back_end);
-        }
+      if (!back_end.State().homed) return;
+      if (!enable_after_homing_) {
+        Enter(OperatingState::kDisabled);
+      } else if (back_end.Enable()) {
+        Enter(OperatingState::kReady);
+      } else {
+        back_end_fault_ = be.fault;
+        RaiseFault(FaultReason::kBackEnd, back_end);
       }
       return;
     case OperatingState::kReady:

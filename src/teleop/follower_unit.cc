@@ -255,6 +255,7 @@ void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& me
   s.state = machine_.state();
   s.fault_reason = machine_.reason();
   s.back_end_fault = static_cast<std::uint8_t>(machine_.back_end_fault());
+  s.homed = measured.homed;
   s.setpoints_accepted = counters_.setpoints_accepted;
   s.setpoints_rejected = counters_.setpoints_rejected;
   s.watchdog_holds = counters_.watchdog_holds;

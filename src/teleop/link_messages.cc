@@ -35,6 +35,7 @@ const char* ToString(FaultReason reason) {
     case FaultReason::kSetPointTooFast: return "setpoint_too_fast";
     case FaultReason::kLeaderLost: return "leader_lost";
     case FaultReason::kEStop: return "estop";
+    case FaultReason::kNotHomed: return "not_homed";
   }
   return "unknown";
 }

@@ -41,6 +41,7 @@ enum class FaultReason : std::uint8_t {
   kSetPointTooFast,   // a set-point broke the speed or acceleration caps
   kLeaderLost,        // no set-point for longer than the link timeout
   kEStop,             // an E-stop command
+  kNotHomed,          // an enable was refused: the robot is not homed (send home first); the state is unchanged
 };
 const char* ToString(FaultReason reason);
 
@@ -95,6 +96,7 @@ struct FollowerStatusMessage {
   OperatingState state = OperatingState::kDisabled;
   FaultReason fault_reason = FaultReason::kNone;
   std::uint8_t back_end_fault = 0;          // robot::FollowerFault
+  bool homed = false;                       // the back end's joints are referenced (robot::RsrFollowerState)
   std::uint64_t setpoints_accepted = 0;
   std::uint64_t setpoints_rejected = 0;
   std::uint64_t watchdog_holds = 0;

@@ -27,6 +27,8 @@ namespace robossis::teleop {
 
 std::vector<std::string> KnownFollowers() { return {"sim", "recorder", "hal"}; }
 
+bool EnablesAtStartByDefault(const std::string& kind) { return kind != "hal"; }
+
 std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
                                                      double max_duration_s) {
   const robot::RsrModel& rsr = *setup.rsr;
@@ -153,6 +155,23 @@ StateCommandMessage EnableCommand() {
   enable.command = StateCommand::kEnable;
   enable.sequence = 1;
   return enable;
+}
+
+// The operator's commands at a follower's start, in order: home, then enable (each only if asked for). An enable
+// that arrives while the follower is homing takes effect once it is homed.
+std::vector<StateCommandMessage> StartCommands(const TeleopRequest& request) {
+  std::vector<StateCommandMessage> commands;
+  if (request.home_at_start) {
+    StateCommandMessage home;
+    home.command = StateCommand::kHome;
+    home.sequence = 1;
+    commands.push_back(home);
+  }
+  if (request.enable_at_start) {
+    commands.push_back(EnableCommand());
+    commands.back().sequence = commands.size();
+  }
+  return commands;
 }
 
 // The clock a run steps (simulated) or sleeps on (real): exactly one is set.
@@ -381,7 +400,7 @@ TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, 
   InProcessLink link(clock);
   FollowerSide follower = MakeFollowerSide(request, setup, link, clock);
   LeaderSide leader = MakeLeaderSide(request, setup, link);
-  if (request.enable_at_start) link.operator_commands().Send(EnableCommand());
+  for (const StateCommandMessage& command : StartCommands(request)) link.operator_commands().Send(command);
   RunClock run_clock;
   if (request.real_clock) run_clock.real = &mono_clock;
   else run_clock.simulated = &sim_clock;
@@ -413,7 +432,7 @@ TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup
   real.real_clock = true;
   LocalCommandLink local(link);
   FollowerSide follower = MakeFollowerSide(real, setup, local, clock);
-  if (request.enable_at_start) local.SendLocal(EnableCommand());
+  for (const StateCommandMessage& command : StartCommands(request)) local.SendLocal(command);
   RunClock run_clock;
   run_clock.real = &clock;
   return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, {});

@@ -55,9 +55,13 @@ struct TeleopRequest {
   double rate_hz = 1000;               // the leader's loop (a multiple of the 1 kHz transfer rate)
   double duration_s = 10;              // a replay stops earlier: 0.5 s after its end
   bool real_clock = false;
-  // The operator's enable when the session starts (the follower homes, then follows once the leader has presence).
-  // Split: the follower enables itself at its start; the leader never sends a command (a follower that disabled
-  // itself when its leader was lost is enabled again from the panel or the follower's console).
+  // The operator's home when the session starts: the state machine never homes on enable, so a back end that does
+  // not measure its joints (hal) is homed only by this (`--home`: the robot stands at its home pose now) or a later
+  // home command. Sent before the enable.
+  bool home_at_start = false;
+  // The operator's enable when the session starts (the follower follows once the leader has presence; refused while
+  // unhomed). Split: the follower enables itself at its start; the leader never sends a command (a follower that
+  // disabled itself when its leader was lost is enabled again from the panel or the follower's console).
   bool enable_at_start = true;
   std::shared_ptr<const geometry::BoundaryAtlas> atlas;  // the mesh methods' atlas
   // Set: leader.csv and follower.csv (of the units run) are written into this folder as the run goes, and
@@ -78,6 +82,11 @@ struct TeleopOutputs {
 };
 
 std::vector<std::string> KnownFollowers();  // sim, recorder, hal
+
+// Whether a follower unit of back end `kind` enables at its start unless told (--enable, --no-enable): the back ends
+// that measure their joints (robot::Follower::MeasuresJoints: sim, recorder) are homed from their start and do; the
+// HAL drives start unhomed after every start and stay disabled until the operator homes and enables them.
+bool EnablesAtStartByDefault(const std::string& kind);
 
 // The follower back end `kind` names (KnownFollowers()), at the robot's home pose: the Bullet RSR without the bone
 // fragments, the LinuxCNC HAL drives (hal.yaml in setup.config_dir), or the pulse recorder sized for

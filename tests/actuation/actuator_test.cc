@@ -172,6 +172,7 @@ class RecordingFollower : public robot::Follower {
   bool Enable() noexcept override { return true; }
   void Disable() noexcept override {}
   bool Home() noexcept override { return true; }
+  bool MeasuresJoints() const noexcept override { return true; }
   bool ResetFault() noexcept override { return true; }
   void Command(const robot::RsrJointCommand& c) noexcept override { last = c; ++count; }
   void Service(double) noexcept override {}

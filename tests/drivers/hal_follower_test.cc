@@ -51,21 +51,6 @@ void HomeAndEnable(ServoThread& servo) {
 
 bool StepgenEnabled(int motor) { return HalSession::GetBit("stepgen." + std::to_string(motor) + ".enable"); }
 
-// Returns once HAL's servo thread has run a whole period that started after this call, so every HAL function of
-// that thread has seen the pins as they were at the call. Observed through the echo, which inverts the follower's
-// watchdog level once per period while the servo loop toggles it: a read that differs from the one before shows an
-// echo run after that read; the second such run is in a later period than the first, all of it after the call.
-bool HalRanAPeriodSinceNow(double timeout_s = 30) {
-  int changes = 0;
-  bool last = HalSession::GetBit("robossis-echo.out");
-  return ServoThread::Eventually([&] {
-    const bool now = HalSession::GetBit("robossis-echo.out");
-    if (now != last) ++changes;
-    last = now;
-    return changes >= 2;
-  }, timeout_s);
-}
-
 robot::RsrFollowerState StateOf(ServoThread& servo) {
   return servo.With([](HalFollower& f) { return f.State(); });
 }
@@ -194,18 +179,22 @@ TEST_F(HalFollowerTest, StalledFollowerHasItsDrivesCutByHalsWatchdog) {
   ASSERT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(3); }));
 
   // Stall the servo loop (hold its lock) until HAL's watchdog cuts the drive: at least its timeout, which is more
-  // than the gap after which the follower knows it may have been cut (half of it).
-  const bool cut = servo.With([&](HalFollower&) { return ServoThread::Eventually([] { return !StepgenEnabled(3); }); });
-  EXPECT_TRUE(cut) << "HAL's watchdog did not cut the drive";
-  ServoThread::Eventually([&] { return StateOf(servo).fault != FollowerFault::kNone; });
-  EXPECT_EQ(StateOf(servo).fault, FollowerFault::kDrive) << "the follower must know its drives were cut";
-  // HAL's watchdog re-arms only on a rising edge of its enable that it sees: the fault's disable must reach it
-  // before the enable below. HalFollower does not wait for that itself (nothing in HAL tells it when the watchdog
-  // ran), so the test gives HAL that period; with a fixed 50 ms sleep a starved HAL thread missed the edge.
-  ASSERT_TRUE(HalRanAPeriodSinceNow());
-  EXPECT_TRUE(servo.With([](HalFollower& f) { return f.ResetFault(); }));
-  ASSERT_TRUE(servo.With([](HalFollower& f) { return f.Enable(); }));  // re-arms HAL's watchdog
-  EXPECT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(3); }));
+  // than the gap after which the follower knows it may have been cut (half of it). Then, with the lock still held,
+  // the follower's next Service() latches the cut (the enabled pin goes low) and the operator resets and enables at
+  // once: the low level and the enable are microseconds apart, well inside one servo period. HAL's watchdog re-arms
+  // only on a rising edge that it sees, so the follower must not raise the enabled pin before the watchdog has seen
+  // it low; a follower that did stayed cut for good.
+  FollowerFault latched = FollowerFault::kNone;
+  const bool enabled = servo.With([&](HalFollower& f) {
+    if (!ServoThread::Eventually([] { return !StepgenEnabled(3); })) return false;
+    f.Service(clock_.NowS());
+    latched = f.State().fault;
+    return f.ResetFault() && f.Enable();
+  });
+  EXPECT_EQ(latched, FollowerFault::kDrive) << "the follower must know its drives were cut";
+  ASSERT_TRUE(enabled) << "HAL's watchdog did not cut the drive, or the follower refused the enable";
+  EXPECT_TRUE(ServoThread::Eventually([] { return StepgenEnabled(3); })) << "HAL's watchdog was not re-armed";
+  EXPECT_TRUE(HalSession::GetBit("robossis.enabled"));
 }
 
 TEST_F(HalFollowerTest, ComponentLeavesHalWhenTheFollowerStops) {

@@ -198,6 +198,26 @@ TEST(WireConvert, SetPointRoundTripsAndQuaternionIsReorderedForRos) {
   EXPECT_EQ(back.flags, m.flags);
 }
 
+// A disabled, unhomed follower that refused an enable: the homed flag (is_homed, the back end's own) and the
+// refusal's reason cross the wire.
+TEST(WireConvert, TheHomedFlagAndANotHomedRefusalTravel) {
+  teleop::FollowerStatusMessage m;
+  m.state = teleop::OperatingState::kDisabled;
+  m.fault_reason = teleop::FaultReason::kNotHomed;
+  char frame_id[] = "F";
+  robossis_msgs_msg_dds__OperatingState_ w{};
+  for (bool homed : {false, true}) {
+    m.homed = homed;
+    ToOperatingState(m, frame_id, w);
+    EXPECT_EQ(w.is_homed, homed);
+    teleop::FollowerStatusMessage back;
+    FromOperatingState(w, back);
+    EXPECT_EQ(back.homed, homed);
+    EXPECT_EQ(back.fault_reason, teleop::FaultReason::kNotHomed);
+    EXPECT_EQ(back.state, teleop::OperatingState::kDisabled);
+  }
+}
+
 TEST(WireConvert, TimeSplitsIntoSecondsAndNanoseconds) {
   const auto t = ToTime(3 * 1000000000LL + 7);
   EXPECT_EQ(t.sec, 3);

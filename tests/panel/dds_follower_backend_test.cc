@@ -86,6 +86,7 @@ TEST(DdsFollowerBackend, ThePanelWatchesARemoteFollowerAndCommandsItsStates) {
   EXPECT_GE(health.setpoint_age_s, 0);
 
   ASSERT_TRUE(panel.SendCommand(StateCommand::kHome));
+  ASSERT_TRUE(panel.SendCommand(StateCommand::kEnable));
   EXPECT_TRUE(WaitForState(panel, OperatingState::kReady));
   ASSERT_TRUE(panel.SendCommand(StateCommand::kEStop));
   EXPECT_TRUE(WaitForState(panel, OperatingState::kEStop));
@@ -95,7 +96,7 @@ TEST(DdsFollowerBackend, ThePanelWatchesARemoteFollowerAndCommandsItsStates) {
   EXPECT_TRUE(WaitForState(panel, OperatingState::kDisabled));
   remote.runner->Stop();
   EXPECT_EQ(remote.unit->counters().commands_refused, 0u);
-  EXPECT_GE(remote.unit->counters().commands_taken, 2u);  // home and reset (the E-stop is not a queued command)
+  EXPECT_GE(remote.unit->counters().commands_taken, 3u);  // home, enable, reset (the E-stop is not a queued command)
   EXPECT_EQ(remote.unit->counters().estops, 1u);
 }
 

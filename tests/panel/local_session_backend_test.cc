@@ -59,6 +59,7 @@ class LocalSessionBackendTest : public ::testing::Test {
   }
   void HomeToReady() {
     ASSERT_TRUE(backend_.SendCommand(StateCommand::kHome));
+    ASSERT_TRUE(backend_.SendCommand(StateCommand::kEnable));
     Run(0.2);
     ASSERT_EQ(Status().state, OperatingState::kReady);
   }
@@ -152,6 +153,7 @@ TEST_F(LocalSessionBackendTest, ScriptWaitsHoldUntilTheStateAndTheJogsEnd) {
   EXPECT_TRUE(controller.ScriptConditionHolds(wait("0 wait state disabled\n")));
   EXPECT_FALSE(controller.ScriptConditionHolds(done));  // no jog yet
   controller.Click("home");
+  controller.Click("enable");
   Run(0.2);
   controller.Update(0);
   EXPECT_TRUE(controller.ScriptConditionHolds(ready));
@@ -214,7 +216,7 @@ TEST_F(LocalSessionBackendTest, EStopLatchesUntilReset) {
   EXPECT_FALSE(backend_.StartJog(JogZ(1, 1)).accepted);
   Run(1.0);
   EXPECT_NEAR(MToMm(PoseOf(Status()).translation().z() - z_at_stop), 0, 0.2);  // the rest of the jog never ran
-  // The follower unit's reset releases the latch into DISABLED (drives off until the next enable), then Home.
+  // The follower unit's reset releases the latch into DISABLED (drives off until the next enable), then Home, Enable.
   ASSERT_TRUE(backend_.SendCommand(StateCommand::kReset));
   Run(0.05);
   EXPECT_EQ(Status().state, OperatingState::kDisabled);

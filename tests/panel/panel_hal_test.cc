@@ -3,7 +3,15 @@
 // stops. Once through the session's API (panel::LocalSessionBackend on its real-time loops), once through the
 // window (the `robossis panel` binary under Xvfb), as a person at the surgical unit would jog the robot.
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -61,19 +69,38 @@ std::string FollowerReport(LocalSessionBackend& backend, const teleop::FollowerS
   return out.str();
 }
 
-TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
-  HalSession hal(StepgenHal());
+// The panel's own session on the HAL drives, as `robossis panel --follower hal` builds it, started.
+struct HalPanelSession {
+  static JogLimits Limits(const teleop::TeleopSetup& setup) {
+    JogLimits limits;
+    limits.setpoint = setup.follower.setpoint;
+    return limits;
+  }
+  HalPanelSession()
+      : backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation, Limits(setup),
+                setup.transfer.rates, clock) {
+    backend.Start();
+  }
   const robot::RsrModel model = robot::RsrModel::FromYaml(DefaultDataDir() / "config" / "rsr.yaml");
   const robot::Sigma7Model sigma7 = robot::Sigma7Model::FromYaml(DefaultDataDir() / "config" / "sigma7.yaml");
   const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(DefaultDataDir(), model, sigma7);
-  JogLimits limits;
-  limits.setpoint = setup.follower.setpoint;
   const rt::MonotonicClock clock;
-  LocalSessionBackend backend(model, teleop::MakeFollowerBackEnd("hal", setup, 0), setup.follower, setup.actuation,
-                              limits, setup.transfer.rates, clock);
-  backend.Start();
+  LocalSessionBackend backend;
+};
+
+bool AnyStepgenEnabled() {
+  for (int m = 0; m < 6; ++m)
+    if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return true;
+  return false;
+}
+
+TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
+  HalSession hal(StepgenHal());
+  HalPanelSession session;
+  LocalSessionBackend& backend = session.backend;
 
   ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEnable));
   teleop::FollowerStatusMessage status =
       WaitFor(backend, 10, [](const auto& s) { return s.state == OperatingState::kReady; });
   ASSERT_EQ(status.state, OperatingState::kReady) << teleop::ToString(status.state);
@@ -104,16 +131,101 @@ TEST(PanelHalTest, AJogMovesTheDrivesByTheRequestedAmountAndTheEStopCutsThem) {
   status = WaitFor(backend, 5, [](const auto& s) { return s.state == OperatingState::kEStop; });
   EXPECT_EQ(status.state, OperatingState::kEStop);
   // HAL's servo thread passes the dropped enables to the stepgens in its next period: polled, not slept for.
-  const auto any_enabled = [] {
-    for (int m = 0; m < 6; ++m)
-      if (HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) return true;
-    return false;
-  };
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (any_enabled() && std::chrono::steady_clock::now() < until)
+  while (AnyStepgenEnabled() && std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   for (int m = 0; m < 6; ++m)
     EXPECT_FALSE(HalSession::GetBit("stepgen." + std::to_string(m) + ".enable")) << "motor " << m;
+  backend.Stop();
+}
+
+// The follower process as a person would run it at the robot, in a child process of the test: its own session on
+// the HAL drives, homed, enabled, jogged `jog_mm` up, then left running until killed. Reports through `fd` how far
+// the robot measured it moved (mm, as text), or a negative number if it could not.
+[[noreturn]] void RunFollowerUntilKilled(int fd, double jog_mm) {
+  double moved_mm = -1;
+  try {
+    auto* session = new HalPanelSession;  // never freed: the process is killed
+    LocalSessionBackend* backend = &session->backend;
+    backend->SendCommand(teleop::StateCommand::kHome);
+    backend->SendCommand(teleop::StateCommand::kEnable);
+    teleop::FollowerStatusMessage status =
+        WaitFor(*backend, 30, [](const auto& s) { return s.state == OperatingState::kReady; });
+    const double z0 = PoseOf(status).translation().z();
+    JogRequest jog;
+    jog.axis = JogAxis::kZ;
+    jog.amount = MmToM(jog_mm);
+    jog.timing = JogTiming::kSpeed;
+    jog.peak_speed = 0.9 * session->setup.follower.setpoint.caps.max_linear_speed_m_s;  // within the set-point caps
+    if (status.state == OperatingState::kReady && backend->StartJog(jog).accepted) {
+      status = WaitFor(*backend, 60, [&](const auto& s) {
+        return std::abs(MToMm(PoseOf(s).translation().z() - z0) - jog_mm) < 0.01;
+      });
+      moved_mm = MToMm(PoseOf(status).translation().z() - z0);
+    }
+  } catch (const std::exception&) {
+  }
+  const std::string text = std::to_string(moved_mm) + "\n";
+  if (write(fd, text.data(), text.size()) < 0) _exit(1);
+  for (;;) pause();
+}
+
+// A follower killed (kill -9: no destructor, no disable) after it moved the robot, then restarted: it starts
+// disabled and unhomed, and refuses an enable with the reason in its status until the operator homes it. Before,
+// the enable homed it where it stood (every later pose offset by the move). HAL keeps a killed userspace
+// component registered under its name (`halcmd unload` does not remove it), so the restarted follower needs HAL
+// restarted too, as after a power cut; the drives, cut by HAL's watchdog when the heartbeat stopped, count from 0.
+TEST(PanelHalTest, AKilledFollowerRestartsDisabledAndUnhomedAndRefusesEnableUntilHomed) {
+  auto hal = std::make_unique<HalSession>(StepgenHal());
+  int pipe_fd[2];
+  ASSERT_EQ(pipe(pipe_fd), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(pipe_fd[0]);
+    RunFollowerUntilKilled(pipe_fd[1], 20);
+  }
+  close(pipe_fd[1]);
+  char text[64] = {};
+  const ssize_t got = read(pipe_fd[0], text, sizeof text - 1);  // blocks until the child moved (or gave up)
+  close(pipe_fd[0]);
+  kill(child, SIGKILL);
+  int child_status = 0;
+  ASSERT_EQ(waitpid(child, &child_status, 0), child);
+  ASSERT_GT(got, 0);
+  const double moved_mm = std::atof(text);
+  std::printf("the killed follower had moved the robot %.3f mm\n", moved_mm);
+  EXPECT_NEAR(moved_mm, 20, 0.01) << "the follower did not make its move before it was killed";
+  // HAL's watchdog cut the drives when the killed follower's heartbeat stopped.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (AnyStepgenEnabled() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_FALSE(AnyStepgenEnabled()) << "HAL's watchdog did not cut the killed follower's drives";
+  hal.reset();
+  hal = std::make_unique<HalSession>(StepgenHal());
+
+  HalPanelSession session;
+  LocalSessionBackend& backend = session.backend;
+  teleop::FollowerStatusMessage status = WaitFor(backend, 10, [](const auto&) { return true; });
+  EXPECT_EQ(status.state, OperatingState::kDisabled);
+  EXPECT_FALSE(status.homed);
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEnable));
+  status = WaitFor(backend, 10, [](const auto& s) { return s.fault_reason == teleop::FaultReason::kNotHomed; });
+  std::printf("the restarted follower after an enable: state %s, reason %s, homed %d\n", teleop::ToString(status.state),
+              teleop::ToString(status.fault_reason), static_cast<int>(status.homed));
+  EXPECT_EQ(status.state, OperatingState::kDisabled) << teleop::ToString(status.state);
+  EXPECT_EQ(status.fault_reason, teleop::FaultReason::kNotHomed) << teleop::ToString(status.fault_reason);
+  EXPECT_FALSE(status.homed);
+  EXPECT_NE(BuildViewModel(session.model, status).refusal_text.find("not homed"), std::string::npos);
+  EXPECT_FALSE(AnyStepgenEnabled());
+
+  // The operator homes it (the robot stands at its home pose now), then enables it.
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kHome));
+  ASSERT_TRUE(backend.SendCommand(teleop::StateCommand::kEnable));
+  status = WaitFor(backend, 10, [](const auto& s) { return s.state == OperatingState::kReady; });
+  EXPECT_EQ(status.state, OperatingState::kReady) << teleop::ToString(status.state);
+  EXPECT_TRUE(status.homed);
+  EXPECT_EQ(status.fault_reason, teleop::FaultReason::kNone);
   backend.Stop();
 }
 
@@ -125,6 +237,7 @@ TEST(PanelHalTest, TheWindowJogsTheDrives) {
   const auto dir = testing::TestDir("hal_jog");
   const testing::PanelRun run = testing::RunPanel(dir,
                                                   "0.2 click home\n"
+                                                  "0.2 click enable\n"
                                                   "0.2 wait state ready\n"
                                                   "0.2 set jog.axis z\n"
                                                   "0.2 set jog.amount 2\n"

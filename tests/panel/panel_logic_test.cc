@@ -250,5 +250,27 @@ TEST(ViewModel, PoseInMmDegAndGaugesMatchTheInverseKinematics) {
               1e-9);
 }
 
+TEST(ViewModel, ARefusedEnableShowsItsReasonAndHomeIsOfferedOnlyWhileDisabled) {
+  const robot::RsrModel model = Model();
+  teleop::FollowerStatusMessage status;
+  status.state = teleop::OperatingState::kDisabled;
+  status.fault_reason = teleop::FaultReason::kNotHomed;
+  PanelViewModel view = BuildViewModel(model, status);
+  EXPECT_NE(view.refusal_text.find("not homed"), std::string::npos);
+  EXPECT_EQ(view.fault_text, "");  // a refusal, not a fault
+  EXPECT_FALSE(view.homed);
+  EXPECT_TRUE(view.home_allowed);
+  status.fault_reason = teleop::FaultReason::kNone;
+  status.homed = true;
+  for (teleop::OperatingState state : {teleop::OperatingState::kHoming, teleop::OperatingState::kReady,
+                                       teleop::OperatingState::kEnabled, teleop::OperatingState::kClutched,
+                                       teleop::OperatingState::kFault, teleop::OperatingState::kEStop}) {
+    status.state = state;
+    view = BuildViewModel(model, status);
+    EXPECT_FALSE(view.home_allowed) << teleop::ToString(state);
+    EXPECT_EQ(view.refusal_text, "");
+  }
+}
+
 }  // namespace
 }  // namespace robossis::panel

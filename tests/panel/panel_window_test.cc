@@ -36,6 +36,7 @@ TEST(PanelWindow, AScriptedJogMovesTheSimulatedFollowerByTheRequestedAmount) {
   const auto dir = TestDir("jog");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 click enable\n"
                                 "0.2 wait state ready\n"
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 5\n"
@@ -60,6 +61,7 @@ TEST(PanelWindow, ARefusedMoveLeavesTheRobotStill) {
   const auto dir = TestDir("refused");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 click enable\n"
                                 "0.2 wait state ready\n"  // else the jog is refused for not being homed
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 200\n"
@@ -80,6 +82,7 @@ TEST(PanelWindow, TheEStopLatches) {
   const auto dir = TestDir("estop");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 click enable\n"
                                 "0.2 wait state ready\n"
                                 "0.8 set jog.amount 10\n"
                                 "0.8 set jog.duration_s 4\n"
@@ -103,6 +106,7 @@ TEST(PanelWindow, HapticModeCapsChangeOnlyWhileClutched) {
   const auto dir = TestDir("haptic");
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 click enable\n"
                                 "0.2 wait state ready\n"
                                 "0.8 click haptic.on\n"
                                 "1.0 set haptic.caps demonstration\n"  // refused: not clutched
@@ -145,6 +149,7 @@ TEST(PanelWindow, HapticModeShowsTheForceOfTheWallTheHandPushesInto) {
   }
   const PanelRun run = RunPanel(dir,
                                 "0.2 click home\n"
+                                "0.2 click enable\n"
                                 "0.2 wait state ready\n"
                                 "0.8 set jog.axis z\n"
                                 "0.8 set jog.amount 66\n"

@@ -29,6 +29,7 @@ class PushableFollower final : public robot::Follower {
   bool Enable() noexcept override { return state_.enabled = true; }
   void Disable() noexcept override { state_.enabled = false; }
   bool Home() noexcept override { return true; }
+  bool MeasuresJoints() const noexcept override { return true; }
   bool ResetFault() noexcept override { return true; }
   void Command(const robot::RsrJointCommand& command) noexcept override {
     if (state_.enabled) state_.q = command.q;

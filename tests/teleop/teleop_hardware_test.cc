@@ -53,6 +53,7 @@ TEST(TeleopHardwareTest, AReplayedFastHandDrivesTheStepgenWithinTheLimits) {
   TeleopRequest request;
   request.device = "replay:" + testing::FastHand().string();
   request.follower = "hal";
+  request.home_at_start = true;  // the operator's: the robot stands at its home pose (the stepgens count from 0)
   request.method = "proxy-safe";
   request.real_clock = true;
   request.duration_s = 4;
@@ -81,6 +82,7 @@ TEST(TeleopHardwareTest, TheFakeSigma7DrivesTheStepgenThroughTheWholeRuntime) {
   TeleopRequest request;
   request.device = "dhd:lib=" FAKE_DHD_LIBRARY;
   request.follower = "hal";
+  request.home_at_start = true;  // the operator's: the robot stands at its home pose (the stepgens count from 0)
   request.method = "proxy-safe";
   request.real_clock = true;
   request.duration_s = 4;

@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "robot/follower.h"
 #include "src/core/files.h"
 #include "src/teleop/streamed_text_file.h"
 #include "src/teleop/teleop_session.h"
@@ -118,6 +121,19 @@ TEST(TeleopSessionTest, ARecorderThatFailsEndsTheRunAndNamesTheCause) {
   // follower.csv (still writable) holds what was recorded: 200 Hz rows up to the failure, not its header alone.
   const std::string follower_csv = ReadTextFile(dir.path() / "follower.csv");
   EXPECT_GT(std::count(follower_csv.begin(), follower_csv.end(), '\n'), 100);
+}
+
+// The follower units that enable at their start by default are exactly those whose back ends measure their joints
+// (homed from their start); the HAL drives (not constructible without HAL) start disabled.
+TEST(TeleopSessionTest, OnlyBackEndsThatMeasureTheirJointsEnableAtStartByDefault) {
+  const TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  for (const std::string kind : {"sim", "recorder"}) {
+    const std::unique_ptr<robot::Follower> back_end = MakeFollowerBackEnd(kind, setup, 1);
+    EXPECT_TRUE(back_end->MeasuresJoints()) << kind;
+    EXPECT_TRUE(back_end->State().homed) << kind;
+    EXPECT_TRUE(EnablesAtStartByDefault(kind)) << kind;
+  }
+  EXPECT_FALSE(EnablesAtStartByDefault("hal"));
 }
 
 TEST(TeleopSessionTest, BadRequestsNameTheOption) {

@@ -245,7 +245,9 @@ void DrawTopBar(panel::PanelController& panel, float width) {
   ImGui::SameLine(520);
   if (ImGui::Button("Reset", ImVec2(90, 48))) panel.Click("reset");
   ImGui::SameLine();
+  ImGui::BeginDisabled(view.has_status && !view.home_allowed);
   if (ImGui::Button("Home", ImVec2(90, 48))) panel.Click("home");
+  ImGui::EndDisabled();
   ImGui::SameLine();
   if (ImGui::Button("Enable", ImVec2(90, 48))) panel.Click("enable");
   ImGui::SameLine();
