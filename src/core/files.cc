@@ -261,14 +261,15 @@ StagedOutputDir::StagedOutputDir(fs::path target, const OutputPolicy& policy, st
   const fs::path clean = WithoutTrailingSlash(target_);
   RemoveLeftoversOfDeadRuns(clean);
   staging_ = clean.string() + ".partial-" + std::to_string(::getpid());
+  cleanup_slot_ = RegisterStagingDir(staging_);  // before it exists: no moment when it exists unregistered
   std::error_code ec;
   fs::remove_all(staging_, ec);
   if (!ec) fs::create_directories(staging_, ec);
   if (ec) {
+    UnregisterStagingDir(cleanup_slot_);
     throw std::runtime_error(option_ + ": " + Quoted(target_) + ": cannot create the staging folder " +
                              Quoted(staging_) + ": " + ec.message());
   }
-  cleanup_slot_ = RegisterStagingDir(staging_);
 }
 
 StagedOutputDir::~StagedOutputDir() {

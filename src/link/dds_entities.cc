@@ -170,7 +170,7 @@ dds_entity_t DdsParticipant::TopicHandle(Topic topic) {
   return t;
 }
 
-dds_entity_t DdsParticipant::Create(Topic topic, bool writer, bool if_granted) {
+dds_entity_t DdsParticipant::Create(Topic topic, bool writer) {
   const std::string name = WireTopicName(options_, topic);
   dds_entity_t e = TopicHandle(topic);
   if (e > 0) {
@@ -178,16 +178,13 @@ dds_entity_t DdsParticipant::Create(Topic topic, bool writer, bool if_granted) {
     e = writer ? dds_create_writer(participant_, e, q, nullptr) : dds_create_reader(participant_, e, q, nullptr);
     dds_delete_qos(q);
   }
-  if (if_granted && !options_.insecure && e == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) return 0;
   Check(e, ((writer ? "writer " : "reader ") + name).c_str());
   if (!writer) Check(dds_set_status_mask(e, DDS_DATA_AVAILABLE_STATUS), "reader status mask");
   return e;
 }
 
-dds_entity_t DdsParticipant::CreateWriter(Topic topic) { return Create(topic, true, false); }
-dds_entity_t DdsParticipant::CreateReader(Topic topic) { return Create(topic, false, false); }
-dds_entity_t DdsParticipant::CreateWriterIfGranted(Topic topic) { return Create(topic, true, true); }
-dds_entity_t DdsParticipant::CreateReaderIfGranted(Topic topic) { return Create(topic, false, true); }
+dds_entity_t DdsParticipant::CreateWriter(Topic topic) { return Create(topic, true); }
+dds_entity_t DdsParticipant::CreateReader(Topic topic) { return Create(topic, false); }
 
 WakeSignal::WakeSignal() : fd_(eventfd(0, EFD_CLOEXEC)) {
   if (fd_ < 0) throw std::runtime_error("eventfd failed");

@@ -39,14 +39,10 @@ class DdsParticipant {
   std::string HandshakeFailure() const;
   dds_entity_t CreateWriter(Topic topic);
   dds_entity_t CreateReader(Topic topic);  // with DATA_AVAILABLE in its status mask
-  // As above, but 0 instead of an exception when a secured participant's permissions do not grant the topic (so
-  // that a link still runs, on its older path, with credentials made before the topic existed).
-  dds_entity_t CreateWriterIfGranted(Topic topic);
-  dds_entity_t CreateReaderIfGranted(Topic topic);
 
  private:
   dds_entity_t TopicHandle(Topic topic);  // < 0: Cyclone's return code
-  dds_entity_t Create(Topic topic, bool writer, bool if_granted);
+  dds_entity_t Create(Topic topic, bool writer);
   LinkOptions options_;
   std::uint64_t handshake_failures_before_ = 0;
   dds_entity_t domain_ = 0;

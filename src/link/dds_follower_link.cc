@@ -38,7 +38,7 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
       dds_(options),
       setpoint_reader_(dds_.CreateReader(Topic::kSetPoint)),
       command_reader_(dds_.CreateReader(Topic::kStateCommand)),
-      estop_reader_(dds_.CreateReaderIfGranted(Topic::kEStop)),
+      estop_reader_(dds_.CreateReader(Topic::kEStop)),
       cp_writer_(dds_.CreateWriter(Topic::kMeasuredCp)),
       js_writer_(dds_.CreateWriter(Topic::kMeasuredJs)),
       state_writer_(dds_.CreateWriter(Topic::kOperatingState)),
@@ -95,7 +95,6 @@ FollowerLinkStatistics DdsFollowerLink::Statistics() const noexcept {
   s.commands_replayed = counters_.commands_replayed.load();
   s.commands_stale = counters_.commands_stale.load();
   s.estops_received = estop_.engaged();
-  s.estop_topic = estop_reader_ > 0;
   s.status_published = counters_.status.load();
   s.deadline_missed = counters_.deadline.load();
   s.leaders_alive = counters_.alive.load();

@@ -7,9 +7,7 @@
 // a send thread writes measured_cp, measured_js and operating_state. DDS is never called on the caller's thread.
 //
 // The E-stop: every engaged sample on rt/<ns>/estop, and every "estop" state command, increments an atomic count
-// (EStopsEngaged) in the receive thread; nothing queues it, so a full command queue cannot drop it. Credentials
-// whose permissions predate the estop topic get no reader for it (Statistics().estop_topic is false) and rely on
-// the "estop" command.
+// (EStopsEngaged) in the receive thread; nothing queues it, so a full command queue cannot drop it.
 
 #include <atomic>
 #include <memory>

@@ -19,7 +19,7 @@ DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dd
   // sends set-points only, the panel state commands only (enable, reset, home: never the leader's to give).
   if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);
   if (options.role == Role::kPanel) command_writer_ = dds_.CreateWriter(Topic::kStateCommand);
-  estop_writer_ = dds_.CreateWriterIfGranted(Topic::kEStop);
+  estop_writer_ = dds_.CreateWriter(Topic::kEStop);
   session_ = (static_cast<std::uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
   cp_reader_ = dds_.CreateReader(Topic::kMeasuredCp);
   js_reader_ = dds_.CreateReader(Topic::kMeasuredJs);
@@ -114,7 +114,6 @@ LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
   s.status_received = counters_.status.load();
   s.state_received = counters_.state.load();
   s.estops_sent = counters_.estops.load();
-  s.estop_topic = estop_writer_ > 0;
   if (setpoint_writer_ > 0) {
     dds_publication_matched_status_t matched;
     if (dds_get_publication_matched_status(setpoint_writer_, &matched) == DDS_RETCODE_OK) {
@@ -126,26 +125,12 @@ LeaderLinkStatistics DdsLeaderLink::Statistics() const noexcept {
 
 void DdsLeaderLink::WriteEStop(std::uint64_t count) {
   const std::int64_t now = rt::MonotonicNowNs();
-  dds_return_t rc = DDS_RETCODE_OK;
-  if (estop_writer_ > 0) {
-    robossis_msgs_msg_dds__EStop_ w{};
-    w.sender_session = session_;
-    w.seq = count;
-    w.stamp_ns = now;
-    w.engaged = true;
-    rc = dds_write(estop_writer_, &w);
-  } else {
-    robossis_msgs_msg_dds__StateCommand_ w{};
-    char frame_id[] = "";
-    w.header.stamp = ToTime(now);
-    w.header.frame_id = frame_id;
-    w.command = const_cast<char*>(CommandName(teleop::StateCommand::kEStop));
-    w.seq = count;
-    w.stamp_ns = now;
-    w.source = options_.role == Role::kPanel ? teleop::kFromPanel : teleop::kFromLeader;
-    rc = dds_write(command_writer_, &w);
-  }
-  if (rc == DDS_RETCODE_OK) counters_.estops.fetch_add(1, std::memory_order_relaxed);
+  robossis_msgs_msg_dds__EStop_ w{};
+  w.sender_session = session_;
+  w.seq = count;
+  w.stamp_ns = now;
+  w.engaged = true;
+  if (dds_write(estop_writer_, &w) == DDS_RETCODE_OK) counters_.estops.fetch_add(1, std::memory_order_relaxed);
 }
 
 void DdsLeaderLink::SendLoop() {

@@ -8,8 +8,7 @@
 // follower's status. DDS is never called on the caller's thread.
 //
 // The E-stop (SendEStop, or a kEStop command, from any thread) goes on its own topic (rt/<ns>/estop), never through
-// the command queue. Credentials whose permissions predate that topic get no E-stop writer: the E-stop is then sent
-// as an "estop" state command (Statistics().estop_topic says which).
+// the command queue: every role's credentials grant it.
 
 #include <atomic>
 #include <thread>

@@ -11,15 +11,14 @@ nlohmann::ordered_json ToJson(const FollowerLinkStatistics& s) {
           {"commands_received", s.commands_received},   {"commands_dropped", s.commands_dropped},
           {"commands_replayed", s.commands_replayed},   {"commands_stale", s.commands_stale},
           {"status_published", s.status_published},     {"deadline_missed", s.deadline_missed},
-          {"leaders_alive", s.leaders_alive},           {"estops_received", s.estops_received},
-          {"estop_topic", s.estop_topic}};
+          {"leaders_alive", s.leaders_alive},           {"estops_received", s.estops_received}};
 }
 
 nlohmann::ordered_json ToJson(const LeaderLinkStatistics& s) {
   return {{"setpoints_sent", s.setpoints_sent},   {"commands_sent", s.commands_sent},
           {"commands_refused", s.commands_refused}, {"status_received", s.status_received},
           {"state_received", s.state_received},   {"followers_matched", s.followers_matched},
-          {"estops_sent", s.estops_sent},         {"estop_topic", s.estop_topic}};
+          {"estops_sent", s.estops_sent}};
 }
 
 }  // namespace robossis::link

@@ -20,7 +20,6 @@ struct FollowerLinkStatistics {
   std::uint64_t commands_replayed = 0;      // not newer than the last of its session (command_freshness)
   std::uint64_t commands_stale = 0;         // older than command max_age_s (command_freshness)
   std::uint64_t estops_received = 0;        // E-stops engaged (estop samples and "estop" commands)
-  bool estop_topic = false;                 // the estop topic is read (false: credentials that predate it)
   std::uint64_t status_published = 0;
   std::uint64_t deadline_missed = 0;        // DDS requested-deadline-missed events on the set-point reader
   std::uint32_t leaders_alive = 0;          // DDS liveliness: set-point writers alive now
@@ -31,7 +30,6 @@ struct LeaderLinkStatistics {
   std::uint64_t commands_sent = 0;
   std::uint64_t commands_refused = 0;       // the command queue was full, or no command writer (a leader)
   std::uint64_t estops_sent = 0;            // E-stop samples written (several engaged at once are one)
-  bool estop_topic = false;                 // on the estop topic (false: as "estop" commands, old credentials)
   std::uint64_t status_received = 0;        // measured_cp samples
   std::uint64_t state_received = 0;         // operating_state samples
   std::uint32_t followers_matched = 0;      // set-point readers matched now

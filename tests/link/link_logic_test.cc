@@ -249,8 +249,11 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
     return std::find(v.begin(), v.end(), s) != v.end();
   };
   EXPECT_TRUE(has(leader.publish, "rt/rsr/setpoint"));
-  // Enable, reset, home: the panel's, never the leader's (it sends set-points only).
-  EXPECT_EQ(leader.publish, std::vector<std::string>{"rt/rsr/setpoint"});
+  // Enable, reset, home: the panel's, never the leader's (it sends set-points, and the E-stop everyone may give).
+  EXPECT_EQ(leader.publish, (std::vector<std::string>{"rt/rsr/setpoint", "rt/rsr/estop"}));
+  EXPECT_TRUE(has(panel.publish, "rt/rsr/estop"));
+  EXPECT_TRUE(has(follower.subscribe, "rt/rsr/estop"));
+  EXPECT_FALSE(has(follower.publish, "rt/rsr/estop"));
   EXPECT_TRUE(has(follower.subscribe, "rt/rsr/state_command"));
   EXPECT_FALSE(has(panel.publish, "rt/rsr/setpoint"));
   EXPECT_TRUE(has(panel.publish, "rt/rsr/state_command"));

@@ -88,7 +88,7 @@ INSTANTIATE_TEST_SUITE_P(
                       // 0 is a value, never "the default".
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --max-speed-mm-s 0",
                                      "--max-speed-mm-s: expected a speed cap in (0, 1000] mm/s, got 0 mm/s"),
-                      std::make_pair("move --delta-mm 0,0,5 --duration-s 0", "--duration-s: expected a positive"),
+                      std::make_pair("move --delta-mm 0,0,5 --duration-s 0", "--duration-s: expected a finite duration in (0, 3600] s"),
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 1 --clinical --max-speed-mm-s 50",
                                      "excludes"),
                       std::make_pair("move --delta-mm 0,0,5 --duration-s 1e9", "at most 3600 s")));
