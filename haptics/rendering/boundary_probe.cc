@@ -140,8 +140,8 @@ void AllGradients(const robot::RsrModel& model, const Eigen::Isometry3d& X, doub
 // limit with no gradient here. Returns the index of the tightest.
 constexpr int kChecks = 3 * robot::kNumArms;
 template <typename Move>
-int LimitDistances(const robot::RsrModel& model, const Eigen::Isometry3d& X, double step, Move move, double (&s)[kChecks],
-                   MarginGradients& unit) noexcept {
+int LimitDistances(const robot::RsrModel& model, const Eigen::Isometry3d& X, double step, Move move,
+                   double (&s)[kChecks], MarginGradients& unit) noexcept {
   const robot::RsrIkResult center = robot::CalcInverseKinematics(model, X);
   AllGradients(model, X, step, unit, move);
   int tightest = 0;

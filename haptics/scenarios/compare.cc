@@ -149,8 +149,10 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
       // max_penetration_deg. An escape beyond the reference's range is not known, so the other one counts; with
       // neither known the tick counts as beyond the reference, in no maximum. The traces keep both raw values.
       if (t_pen > 0 || r_pen > 0) {
-        const double t_cost = rec.penetration_mm_beyond_reference ? HUGE_VAL : t_pen / config.cloud.translation_radius_m;
-        const double r_cost = rec.penetration_deg_beyond_reference ? HUGE_VAL : r_pen / config.cloud.rotation_radius_rad;
+        const double t_cost =
+            rec.penetration_mm_beyond_reference ? HUGE_VAL : t_pen / config.cloud.translation_radius_m;
+        const double r_cost =
+            rec.penetration_deg_beyond_reference ? HUGE_VAL : r_pen / config.cloud.rotation_radius_rad;
         if (t_cost == HUGE_VAL && r_cost == HUGE_VAL) {
           rec.penetration_counted = PenetrationCount::kBeyondReference;
           ++m.penetration_beyond_reference_ticks;
@@ -427,8 +429,8 @@ std::string MarkdownTable(const std::vector<MethodRun>& runs) {
   for (const std::string& w : winners) out << ' ' << w << " |";
   out << "\n\n";
   // Where the reference ends, unranked: these say how much of each row above was measured.
-  out << "| method | beyond reference (ticks) | direction error scored / left out (ticks) | free / shallow / deep (%) |\n"
-         "|---|---|---|---|\n";
+  out << "| method | beyond reference (ticks) | direction error scored / left out (ticks) | "
+         "free / shallow / deep (%) |\n|---|---|---|---|\n";
   for (const MethodRun& r : runs) {
     const MethodMetrics& m = r.metrics;
     std::snprintf(buf, sizeof buf, "%.1f / %.1f / %.1f", 100 * m.free_share, 100 * m.shallow_share,
