@@ -136,27 +136,52 @@ void AllGradients(const robot::RsrModel& model, const Eigen::Isometry3d& X, doub
   }
 }
 
+// Each limit's first-order signed distance s_i = margin_i / |grad margin_i| and unit inward normal; s_i = 1e300 for a
+// limit with no gradient here. Returns the index of the tightest.
+constexpr int kChecks = 3 * robot::kNumArms;
+template <typename Move>
+int LimitDistances(const robot::RsrModel& model, const Eigen::Isometry3d& X, double step, Move move,
+                   double (&s)[kChecks], MarginGradients& unit) noexcept {
+  const robot::RsrIkResult center = robot::CalcInverseKinematics(model, X);
+  AllGradients(model, X, step, unit, move);
+  int tightest = 0;
+  for (int i = 0; i < kChecks; ++i) {
+    const double n = unit.col(i).norm();
+    s[i] = n > 1e-12 ? center.checks[i].margin / n : 1e300;
+    if (n > 1e-12) unit.col(i) /= n;
+    if (s[i] < s[tightest]) tightest = i;
+  }
+  return tightest;
+}
+
 template <typename Move>
 Eigen::Vector3d SoftMinNormal(const robot::RsrModel& model, const Eigen::Isometry3d& X, double step, double blend,
                               Move move) noexcept {
-  constexpr int kChecks = 3 * robot::kNumArms;
-  const robot::RsrIkResult center = robot::CalcInverseKinematics(model, X);
-  MarginGradients g;
-  AllGradients(model, X, step, g, move);
   double s[kChecks];
-  double s_min = 1e300;
-  for (int i = 0; i < kChecks; ++i) {
-    const double n = g.col(i).norm();
-    s[i] = n > 1e-12 ? center.checks[i].margin / n : 1e300;
-    s_min = std::min(s_min, s[i]);
-  }
+  MarginGradients unit;
+  const double s_min = s[LimitDistances(model, X, step, move, s, unit)];
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   for (int i = 0; i < kChecks; ++i) {
     if (s[i] >= 1e299) continue;
-    normal += std::exp(-(s[i] - s_min) / blend) * g.col(i).normalized();
+    normal += std::exp(-(s[i] - s_min) / blend) * unit.col(i);
   }
   const double n = normal.norm();
   return n > 1e-12 ? Eigen::Vector3d(normal / n) : Eigen::Vector3d::Zero();
+}
+
+template <typename Move>
+bool IsNormalUnique(const robot::RsrModel& model, const Eigen::Isometry3d& X, double step, double edge_margin,
+                    double crease_rad, Move move) noexcept {
+  double s[kChecks];
+  MarginGradients unit;
+  const int tightest = LimitDistances(model, X, step, move, s, unit);
+  if (s[tightest] >= 1e299) return false;
+  const double cos_crease = std::cos(crease_rad);
+  for (int i = 0; i < kChecks; ++i) {
+    if (i == tightest || s[i] >= 1e299 || s[i] - s[tightest] >= edge_margin) continue;
+    if (unit.col(i).dot(unit.col(tightest)) < cos_crease) return false;
+  }
+  return true;
 }
 }  // namespace
 
@@ -182,6 +207,18 @@ Eigen::Vector3d InwardNormalRotation(const robot::RsrModel& model, const Eigen::
                                      double blend_rad) noexcept {
   return SoftMinNormal(model, X_FM, 1e-6, blend_rad,
                        [](const Eigen::Isometry3d& X, const Eigen::Vector3d& e) { return Rotated(X, e); });
+}
+
+bool IsNormalUniqueTranslation(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, double edge_margin_m,
+                               double crease_rad) noexcept {
+  return IsNormalUnique(model, X_FM, 1e-6, edge_margin_m, crease_rad,
+                        [](const Eigen::Isometry3d& X, const Eigen::Vector3d& d) { return Translated(X, d); });
+}
+
+bool IsNormalUniqueRotation(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, double edge_margin_rad,
+                            double crease_rad) noexcept {
+  return IsNormalUnique(model, X_FM, 1e-6, edge_margin_rad, crease_rad,
+                        [](const Eigen::Isometry3d& X, const Eigen::Vector3d& e) { return Rotated(X, e); });
 }
 
 double BisectTranslation(const robot::RsrModel& model, const Eigen::Matrix3d& R, const Eigen::Vector3d& p_from,

@@ -55,14 +55,33 @@ double BisectTranslation(const robot::RsrModel& model, const Eigen::Matrix3d& R,
 double BisectRotation(const robot::RsrModel& model, const Eigen::Vector3d& p, const Eigen::Matrix3d& R_from,
                       const Eigen::Vector3d& rotvec, int steps) noexcept;
 
+// The reference's range: how far the penetration search below looks. In translation 0.2 m [assumed]: far beyond the
+// tens of mm a hand on the device pushes through a wall, and not longer because the search's fallback (26 rays, 20
+// steps each of range/20) would then step over thin parts of the region. In rotation the whole space, at the same
+// cost: a rotation vector of norm pi reaches every orientation, so nothing found within it means no feasible
+// orientation exists at that position (up to the fallback's 9° steps).
+inline constexpr double kPenetrationRangeM = 0.2;
+inline constexpr double kPenetrationRangeRad = 3.14159265358979323846;
+
 // Penetration beyond the true boundary, for the metrics: the distance from X to the nearest feasible position at
 // X's orientation (m), and the angle to the nearest feasible orientation at X's position (rad). 0 when X is
 // feasible. Found by Newton projection on the violated limits (each step moves along the violated limit's gradient
-// to its zero, exact to first order for one active limit), with a directional bisection search as the fallback; the
-// result is capped at `cap` if nothing feasible is found within it.
+// to its zero, exact to first order for one active limit), with a directional bisection search as the fallback.
+// Returns exactly `cap` when nothing feasible is found within it (every found value is below it): the penetration is
+// then beyond the reference's range, and only known to be at least `cap` (or undefined: beyond the twist limit no
+// position is feasible, far from the workspace no orientation is).
 double TranslationalPenetration(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
-                                double cap_m = 0.2) noexcept;
+                                double cap_m = kPenetrationRangeM) noexcept;
 double RotationalPenetration(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM,
-                             double cap_rad = 0.7) noexcept;
+                             double cap_rad = kPenetrationRangeRad) noexcept;
+
+// Whether the inward normal is unique at X: false on an edge or corner of the region, where a second limit's
+// first-order distance s_i = margin_i / |grad margin_i| is within `edge_margin` of the tightest limit's and its
+// normal is more than `crease_rad` away from the tightest's. There the boundary has a cone of normals (the soft-min
+// normal above is only one of them, set by its blend), so no single direction is the truth. Six IK evaluations.
+bool IsNormalUniqueTranslation(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, double edge_margin_m,
+                               double crease_rad) noexcept;
+bool IsNormalUniqueRotation(const robot::RsrModel& model, const Eigen::Isometry3d& X_FM, double edge_margin_rad,
+                            double crease_rad) noexcept;
 
 }  // namespace robossis::haptics

@@ -18,6 +18,20 @@
 //                               region: a phantom wall (the damper included)
 //   wall_onset_mm / _deg        push scenarios: signed distance to the true boundary where the wall first reached
 //                               2 N (0.05 N·m) — the workspace a method gives up before the true boundary
+//
+// The reference has a range (kPenetrationRangeM / _Rad, boundary_probe.h) and a normal that is not defined
+// everywhere; the metrics say where it ends instead of using its capped or arbitrary values:
+//   penetration_beyond_reference_ticks  ticks where neither escape was found within the range: the penetration is
+//                               unknown (at least the range), so it is counted here and left out of the maxima; a tick
+//                               with one escape in range counts that one (beyond the twist limit no position is
+//                               feasible, far from the workspace no orientation is)
+//   direction_error_left_out_ticks      ticks whose wall force (torque) would have been scored but the reference's
+//                               normal is not defined there: the penetration in that space is beyond the range, or
+//                               the pose is on an edge (IsNormalUnique*: a second limit within kNormalEdgeMargin* of
+//                               the tightest, with a normal more than kNormalCreaseDeg away)
+//   free_share / shallow_share / deep_share  share of ticks with the commanded pose inside the true region, beyond it
+//                               by at most kShallowPenetration* (in the counted unit), and deeper (or beyond the
+//                               reference)
 
 #include <functional>
 #include <string>
@@ -31,6 +45,23 @@
 
 namespace robossis::haptics {
 
+// Direction errors need a unique reference normal: on an edge, a second limit within this first-order distance of
+// the tightest one [assumed: the soft-min normal's blend, where the second limit's weight exceeds 1/e] ...
+inline constexpr double kNormalEdgeMarginM = 1e-3;
+inline constexpr double kNormalEdgeMarginDeg = 0.5;
+// ... whose normal is more than this far from the tightest's [assumed: beyond it, the bisector the reference
+// reports can be more than 15° from a limit's own normal, as large as the errors being compared].
+inline constexpr double kNormalCreaseDeg = 30.0;
+// Shallow contact: the commanded pose beyond the true boundary by at most this, in the unit its penetration is
+// counted in [assumed: a third of the paper's point-cloud radii (15 mm, 5°): a hand resting on a wall; deeper it has
+// pushed through].
+inline constexpr double kShallowPenetrationMm = 5.0;
+inline constexpr double kShallowPenetrationDeg = 5.0 / 3.0;
+
+// Which of a tick's two penetrations counts toward the summary (see RunMethod).
+enum class PenetrationCount { kFree, kTranslation, kRotation, kBeyondReference };
+const char* ToString(PenetrationCount c);
+
 struct TickRecord {
   double t_s = 0;
   int episode = 0;
@@ -43,8 +74,15 @@ struct TickRecord {
   double tick_us = 0;
   double penetration_mm = 0;
   double penetration_deg = 0;
+  // The search found nothing within the reference's range: penetration_mm (_deg) is then the range, a lower bound.
+  bool penetration_mm_beyond_reference = false;
+  bool penetration_deg_beyond_reference = false;
+  PenetrationCount penetration_counted = PenetrationCount::kFree;
   double force_direction_error_deg = -1;   // -1: not evaluated this tick
   double torque_direction_error_deg = -1;
+  // Would have been scored (in contact, wall above the threshold) but the reference's normal is not defined here.
+  bool force_direction_left_out = false;
+  bool torque_direction_left_out = false;
   double push_signed = 0;  // push episodes: signed distance to the true boundary along the push (mm or deg)
   bool push_rotational = false;
   bool is_push = false;
@@ -75,6 +113,14 @@ struct MethodMetrics {
   double max_free_space_torque_nm = 0;
   int deep_penetration_ticks = 0;
   int fault_ticks = 0;
+  // Where the reference ends (see the top of this file).
+  int ticks = 0;
+  int penetration_beyond_reference_ticks = 0;
+  int translation_beyond_reference_ticks = 0;  // the translational search alone found nothing
+  int rotation_beyond_reference_ticks = 0;
+  int direction_error_scored_ticks = 0;  // ticks with a force or torque direction error scored
+  int direction_error_left_out_ticks = 0;
+  double free_share = 0, shallow_share = 0, deep_share = 0;
 };
 
 struct MethodRun {
@@ -103,6 +149,9 @@ nlohmann::ordered_json SummaryJson(const Scenario& scenario, const CompareSettin
                                    const std::vector<MethodRun>& runs);
 // Markdown table: one row per method, one column per metric, the best value of each column in bold, and a last row
 // naming the winner of each metric.
+// Then, unranked, where the reference ends: ticks beyond its range, direction samples left out, contact shares.
 std::string MarkdownTable(const std::vector<MethodRun>& runs);
+// What the reference is and where it ends: its range, the edge rule of the direction error, the contact thresholds.
+std::string MarkdownReferenceNotes();
 
 }  // namespace robossis::haptics

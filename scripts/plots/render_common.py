@@ -3,12 +3,12 @@ import csv
 
 
 def read_trace(path):
-    """Columns of a trace CSV as a dict of lists (numbers as floats, 'status' kept as text)."""
+    """Columns of a trace CSV as a dict of lists (numbers as floats, 'status' and 'penetration_counted_as' as text)."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     cols = {}
     for key in rows[0].keys() if rows else []:
-        if key == "status":
+        if key in ("status", "penetration_counted_as"):
             cols[key] = [r[key] for r in rows]
         else:
             cols[key] = [float(r[key]) for r in rows]

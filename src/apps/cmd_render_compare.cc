@@ -74,7 +74,7 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   result.table_markdown = haptics::MarkdownTable(result.runs);
   out.Write(request.prefix + "summary.md", "# Rendering comparison: " + result.scenario.name + " at " +
                                                 std::to_string(static_cast<int>(request.rate_hz)) + " Hz\n\n" +
-                                                result.table_markdown);
+                                                result.table_markdown + "\n" + haptics::MarkdownReferenceNotes());
   bool any_push = false;
   for (const haptics::Episode& e : result.scenario.episodes) any_push = any_push || e.is_push;
   auto draw = [&](const std::string& script, const std::string& png, const std::string& caption) {

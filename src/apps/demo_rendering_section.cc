@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "haptics/rendering/renderer_factory.h"
+#include "haptics/scenarios/compare.h"
 #include "src/apps/demo.h"
 #include "src/apps/render_compare.h"
 
@@ -100,6 +101,7 @@ void WriteRenderingSection(DemoContext& demo) {
       << result.table_markdown << "\n";
     for (const PendingFigure& f : figures) demo.Figure(f.script, f.args, f.png, f.caption);
   }
+  r << haptics::MarkdownReferenceNotes() << "\n";
   r << "Reading the tables: the point clouds start pushing up to 15 mm (5°) before the true boundary, so the HC "
        "barely crosses it but the usable workspace shrinks; the proxy lets the hand reach the true boundary and "
        "resists with a force along the exact normal, growing continuously from zero; the passivity controller "
