@@ -346,7 +346,7 @@ nlohmann::ordered_json SummaryJson(const Scenario& scenario, const CompareSettin
     x["tick_us_p50"] = m.tick_us_p50;
     x["tick_us_p99"] = m.tick_us_p99;
     x["tick_us_max"] = m.tick_us_max;
-    // Beyond the keys the issue names:
+    // Details beyond the headline keys:
     x["force_direction_error_deg_p95"] = m.force_direction_error_deg_p95;
     x["torque_direction_error_deg_p95"] = m.torque_direction_error_deg_p95;
     x["max_torque_step_nm"] = m.max_torque_step_nm;

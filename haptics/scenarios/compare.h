@@ -1,6 +1,6 @@
 #pragma once
 // Side-by-side comparison of rendering methods on the same scripted hand motion, in closed loop with the simulated
-// sigma.7, and the metrics of issue 4, all measured against the TRUE boundary (IK feasibility with bisection,
+// sigma.7, and these metrics, all measured against the TRUE boundary (IK feasibility with bisection,
 // haptics/rendering/boundary_probe.h), independently of the method:
 //   max_penetration_mm / _deg   how far the commanded RSR pose went beyond the true boundary: distance to the nearest
 //                               feasible position at the same orientation / angle to the nearest feasible orientation

@@ -1,5 +1,5 @@
 #pragma once
-// Scenarios of the Bullet simulation (issue 6): the paper's Fig. 7 sinusoid in all six DOF (§IV) and a fracture
+// Scenarios of the Bullet simulation: the paper's Fig. 7 sinusoid in all six DOF (§IV) and a fracture
 // reduction against muscle traction. The commanded ring pose goes through the RSR inverse kinematics (eq. 5–8) into
 // joint commands for a robot::Follower (the simulation); the ring pose measured in Bullet is compared with the
 // commanded one, and the actuator efforts with the Jacobian statics (Q = -J^-T W, eq. 15).
@@ -96,7 +96,7 @@ struct ScenarioSummary {
   double max_actuator_force_n = 0;
   double max_actuator_torque_nm = 0;
   double realtime_factor = 0;  // simulated time / CPU time of the stepping thread (Command + Step + State)
-  // Beyond the issue's keys:
+  // Beyond the headline keys:
   double realtime_factor_wall = 0;  // simulated time / wall-clock time (lower when other processes share the core)
   double simulated_s = 0;
   double wall_s = 0;

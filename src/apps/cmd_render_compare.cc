@@ -1,4 +1,4 @@
-// `robossis render-compare`: haptic rendering methods side by side on the same closed-loop motion (issue 4).
+// `robossis render-compare`: haptic rendering methods side by side on the same closed-loop motion.
 
 #include <algorithm>
 #include <cmath>

@@ -175,7 +175,7 @@ void RegisterWorkspaceCommands(CLI::App& app, const AppContext& context) {
     const geometry::WorkspaceSlice wrist = geometry::GenerateSlice(rsr, sigma7, w);
     WriteSlice(out, translation, "translation");
     WriteSlice(out, wrist, "wrist");
-    // The keys at the top level describe the translation slice; both slices are under "slices".
+    // The headline keys at the top level describe the translation slice; both slices are under "slices".
     json summary = SliceSummaryJson(translation);
     summary["slices"] = {{"translation", SliceSummaryJson(translation)}, {"wrist", SliceSummaryJson(wrist)}};
     out.Write("summary.json", summary.dump(2) + "\n");

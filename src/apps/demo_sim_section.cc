@@ -76,7 +76,7 @@ void WriteSimSection(DemoContext& demo) {
   }
   const sim::ScenarioSummary& unloaded = runs[0].result.summary;
   const bool goal = unloaded.max_translation_error_mm <= 0.02 && unloaded.max_rotation_error_deg <= 0.01;
-  r << "\nGoal (issue 6): unloaded deviation ≤ 0.02 mm and ≤ 0.01°: **" << (goal ? "met" : "NOT met")
+  r << "\nGoal: unloaded deviation ≤ 0.02 mm and ≤ 0.01°: **" << (goal ? "met" : "NOT met")
     << "**. The deviation is the loop-closure residual of the constraint solver (Bullet's MLCP/Dantzig solver "
        "solves the drives, the spherical joints and contacts together each step); the position-controlled drives reach "
        "their set-point every step unless a force limit binds, so the load changes the efforts, not the pose. "

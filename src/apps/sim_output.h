@@ -13,7 +13,7 @@
 
 namespace robossis::apps {
 
-// Exactly the keys: max/mean translation (mm) and rotation (deg) error, max actuator force (N) and torque
+// The headline keys: max/mean translation (mm) and rotation (deg) error, max actuator force (N) and torque
 // (N·m), real-time factor.
 nlohmann::ordered_json SimSummaryJson(const sim::ScenarioSummary& summary);
 // Parameters, limits reached, statics check, contact, traction peaks, masses.

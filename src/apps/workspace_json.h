@@ -14,7 +14,7 @@ namespace robossis::apps {
 // report is the error mesh-live renders with.
 geometry::LiveBoundaryOptions ConfiguredLiveOptions(const AppContext& app);
 
-// summary.json of one slice: volume, extents, triangles, watertight (the keys) plus units and details.
+// summary.json of one slice: volume, extents, triangles, watertight (the headline keys) plus units and details.
 // Edge units: mm (mm^3) for position slices, deg (deg^3) for angle slices.
 nlohmann::ordered_json SliceSummaryJson(const geometry::WorkspaceSlice& slice);
 

@@ -111,7 +111,7 @@ struct FollowerReplay {
 FollowerReplay ReplayOnFollower(const TransferTrace& trace, const robot::RsrModel& model, robot::Follower& follower,
                                 const Eigen::Isometry3d& X_FM_start, double step_s, double t_end, int csv_every = 10);
 
-// summary.json: the keys first, then the details.
+// summary.json: the headline keys first, then the details.
 nlohmann::ordered_json SummaryJson(const TransferSummary& s);
 
 // CSV writers (units at the edge: mm, deg).

@@ -48,7 +48,7 @@ class SessionSummary {
   void AddFollower(const FollowerTickRecord& r);
   void SetEnd(const SessionEndRecord& end) { end_ = end; has_end_ = true; }
 
-  // The keys first, then the details.
+  // The headline keys first, then the details.
   nlohmann::ordered_json Summary() const;
   // The CSV text not yet moved out (all of it, the header first, if MoveCsvTo was never called).
   const std::string& leader_csv() const { return leader_csv_; }

@@ -1,4 +1,4 @@
-// Tick time of each haptic rendering method (issue 4): point cloud versus point count, proxy, mesh walls.
+// Tick time of each haptic rendering method: point cloud versus point count, proxy, mesh walls.
 // Run: build/tests/bench/bench_haptics --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // Ratios to the 1 ms (1 kHz) and 250 µs (4 kHz) budgets are recorded in BENCHMARKS.md.
 
