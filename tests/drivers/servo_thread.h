@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <mutex>
+#include <mutex>  // std::lock_guard
 #include <optional>
 #include <thread>
 
@@ -20,6 +20,28 @@
 namespace robossis::testing {
 
 using drivers::HalFollower;
+
+// A mutex with priority inheritance: a test thread (normal priority) preempted on a loaded machine while it holds
+// the loop's lock runs at the loop's priority until it lets go. With a plain mutex that priority inversion stalled
+// the loop past half the follower timeout, and the follower rightly latched a drive fault.
+class PriorityInheritanceMutex {
+ public:
+  PriorityInheritanceMutex() {
+    pthread_mutexattr_t attributes;
+    pthread_mutexattr_init(&attributes);
+    pthread_mutexattr_setprotocol(&attributes, PTHREAD_PRIO_INHERIT);
+    pthread_mutex_init(&mutex_, &attributes);
+    pthread_mutexattr_destroy(&attributes);
+  }
+  ~PriorityInheritanceMutex() { pthread_mutex_destroy(&mutex_); }
+  PriorityInheritanceMutex(const PriorityInheritanceMutex&) = delete;
+  PriorityInheritanceMutex& operator=(const PriorityInheritanceMutex&) = delete;
+  void lock() { pthread_mutex_lock(&mutex_); }
+  void unlock() { pthread_mutex_unlock(&mutex_); }
+
+ private:
+  pthread_mutex_t mutex_;
+};
 
 // The follower unit's servo thread: on absolute deadlines of the HAL servo period, body(now_s) then Service(now_s).
 // The test thread reaches the follower only through With(), which holds the loop's lock (holding it stalls the loop).
@@ -39,17 +61,17 @@ class ServoThread {
   }
   template <class F>
   auto With(F&& f) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<PriorityInheritanceMutex> lock(mutex_);
     return f(follower_);
   }
   // From now on, remember the state after the first Service() that starts later than this call.
   void Mark() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<PriorityInheritanceMutex> lock(mutex_);
     mark_s_ = clock_.NowS();
     after_mark_.reset();
   }
   std::optional<robot::RsrFollowerState> StateAfterMark() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<PriorityInheritanceMutex> lock(mutex_);
     return after_mark_;
   }
   static void Sleep(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
@@ -77,7 +99,7 @@ class ServoThread {
     while (!stop_) {
       deadline += period;
       std::this_thread::sleep_until(deadline);
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<PriorityInheritanceMutex> lock(mutex_);
       const double now = clock_.NowS();
       if (body_) body_(follower_, now);
       follower_.Service(now);
@@ -91,7 +113,7 @@ class ServoThread {
   const rt::MonotonicClock& clock_;
   Body body_;
   std::int64_t period_;
-  std::mutex mutex_;
+  PriorityInheritanceMutex mutex_;
   double mark_s_ = std::numeric_limits<double>::infinity();
   std::optional<robot::RsrFollowerState> after_mark_;
   std::atomic<bool> stop_{false};
