@@ -1,4 +1,4 @@
-// Issue 7 benchmark: reading and evaluating an hour of OptiTrack data at 240 Hz (864,000 frames); target ≤ 5 s on
+// Reading and evaluating an hour of OptiTrack data at 240 Hz (864,000 frames); target ≤ 5 s on
 // one core. The take is a synthetic Motive 1.23 export (1 rigid body, 4 rigid-body markers, 4 markers, 20
 // occlusions) of a 1-hour commanded motion, written once to a temporary file.
 

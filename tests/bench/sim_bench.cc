@@ -1,4 +1,4 @@
-// Real-time factor of the Bullet simulation at its 1 kHz physics step (issue 6 target: >= 10x real time on one
+// Real-time factor of the Bullet simulation at its 1 kHz physics step (target: >= 10x real time on one
 // core). The budget of one step is 1 ms; counters report the real-time factor (simulated s per CPU s). See
 // BENCHMARKS.md.
 

@@ -66,7 +66,7 @@ TEST_F(SliceTest, RotationalMeshIsWatertightAndOutward) {
 }
 
 TEST_F(SliceTest, DexterousVerticesLieWithinOneHundredthMmOfTheBoundary) {
-  // Issue 3: within 0.01 mm of the true boundary at any grid resolution.
+  // Within 0.01 mm of the true boundary at any grid resolution.
   ExpectVerticesOnBoundary(*dexterous_, SliceFeasibility(*rsr_, *hc_, SliceKind::kRsrDexterous, {0, 0, 0}), 1e-5);
 }
 

@@ -107,7 +107,7 @@ TEST(RsrSimulationTest, HoldsALoadedPoseFor60SecondsWithoutDrift) {
     worst_loop = std::max(worst_loop, sim.diagnostics().max_loop_error_m);
   }
   EXPECT_NEAR(sim.time_s(), 60.0, 1e-9);
-  EXPECT_LT(worst_t, MmToM(0.02));    // issue 6 accuracy goal
+  EXPECT_LT(worst_t, MmToM(0.02));    // the simulation's accuracy goal
   EXPECT_LT(worst_r, DegToRad(0.01));
   EXPECT_LT(worst_loop, 1e-7);
   EXPECT_LT(sim.diagnostics().v_P_F.norm(), 1e-6);  // at rest: no energy creeping in

@@ -24,7 +24,7 @@ ScenarioResult RunKind(ScenarioKind kind, double load_n, double load_nm, double 
 }
 
 TEST(ScenarioTest, UnloadedSinusoidMeetsTheAccuracyGoal) {
-  // Issue 6: <= 0.02 mm and <= 0.01 deg unloaded (the paper's Gazebo model: ~0.2 mm, ~0.1 deg, §IV).
+  // Goal: <= 0.02 mm and <= 0.01 deg unloaded (the paper's Gazebo model: ~0.2 mm, ~0.1 deg, §IV).
   const ScenarioSummary s = RunKind(ScenarioKind::kSinusoid, 0, 0, 6).summary;
   EXPECT_LE(s.max_translation_error_mm, 0.02);
   EXPECT_LE(s.max_rotation_error_deg, 0.01);
