@@ -177,8 +177,11 @@ void DdsFollowerLink::SendLoop() {
     if (stop_.load(std::memory_order_acquire)) break;
     teleop::FollowerStatusMessage m;
     if (!status_.ReadNewer(m, version_sent)) continue;
+    // Stamped when written: the send thread writes each status as the loop publishes it, so the stamp trails the
+    // measurement by the thread's wake-up only.
+    const std::int64_t stamp = SystemNowNs();
     geometry_msgs_msg_dds__PoseStamped_ cp{};
-    ToMeasuredCp(m, frame_id, cp);
+    ToMeasuredCp(m, stamp, frame_id, cp);
     dds_write(cp_writer_, &cp);
     sensor_msgs_msg_dds__JointState_ js{};
     js.header = cp.header;
@@ -191,7 +194,7 @@ void DdsFollowerLink::SendLoop() {
     if (!have_state || m.state != last_state || m.fault_reason != last_reason ||
         now - last_state_ns >= Ns(options_.tuning.status_state_period_s)) {
       robossis_msgs_msg_dds__OperatingState_ st{};
-      ToOperatingState(m, frame_id, st);
+      ToOperatingState(m, stamp, frame_id, st);
       dds_write(state_writer_, &st);
       have_state = true;
       last_state = m.state;

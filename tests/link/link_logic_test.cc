@@ -208,7 +208,7 @@ TEST(WireConvert, TheHomedFlagAndANotHomedRefusalTravel) {
   robossis_msgs_msg_dds__OperatingState_ w{};
   for (bool homed : {false, true}) {
     m.homed = homed;
-    ToOperatingState(m, frame_id, w);
+    ToOperatingState(m, 0, frame_id, w);
     EXPECT_EQ(w.is_homed, homed);
     teleop::FollowerStatusMessage back;
     FromOperatingState(w, back);
