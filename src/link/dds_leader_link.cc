@@ -14,7 +14,9 @@
 namespace robossis::link {
 
 DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dds_(options) {
-  if (options.role == Role::kFollower) throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
+  if (options.role != Role::kLeader && options.role != Role::kPanel) {
+    throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
+  }
   // Each role gets the writers its permissions grant (keys.cc, TopicsOf), and could create no other: the leader
   // sends set-points only, the panel state commands only (enable, reset, home: never the leader's to give).
   if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);

@@ -267,6 +267,20 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
   EXPECT_NE(xml.find("CN=panel,O=Robossis,C=US"), std::string::npos);
 }
 
+// The observer (a ROS 2 tool) may read the status and ROS 2's own topics, and publish nothing under rt/rsr/.
+TEST(Permissions, TheObserverReadsTheStatusAndPublishesNothingOfTheRobots) {
+  const auto observer = TopicsOf(Role::kObserver, "rsr");
+  for (const auto& t : observer.publish) EXPECT_NE(t.rfind("rt/rsr/", 0), 0u) << t;
+  for (const auto& t : observer.publish) EXPECT_NE(t.rfind("rt/*", 0), 0u) << t;  // no wildcard over rt/rsr/
+  for (const std::string t : {"rt/rsr/measured_cp", "rt/rsr/measured_js", "rt/rsr/operating_state"}) {
+    EXPECT_NE(std::find(observer.subscribe.begin(), observer.subscribe.end(), t), observer.subscribe.end()) << t;
+  }
+  for (const std::string t : {"ros_discovery_info", "rt/rosout", "rt/parameter_events"}) {
+    EXPECT_NE(std::find(observer.publish.begin(), observer.publish.end(), t), observer.publish.end()) << t;
+    EXPECT_NE(std::find(observer.subscribe.begin(), observer.subscribe.end(), t), observer.subscribe.end()) << t;
+  }
+}
+
 TEST(Permissions, HostileNamespacesAreRefusedAndValuesEscaped) {
   for (const std::string& ns : std::vector<std::string>{"*", "rsr</topic><topic>*", "", "rsr<x>", "rs?r", "rsr/other",
                                                         "rsr*", std::string(kMaxTopicNamespaceLength + 1, 'a')}) {
