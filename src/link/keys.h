@@ -1,11 +1,11 @@
 #pragma once
 // The credentials of the secured link (DDS Security: authentication, access control, cryptography), made with the
 // `openssl` command line: one CA (identity and permissions CA), an identity certificate and key for the leader, the
-// follower and the control panel, a signed governance document that authenticates and encrypts everything, and a
-// signed permissions document per participant that grants it only its own topics. Each role gets a bundle of its
-// own (`leader/`, `follower/`, `panel/`, and `observer/` for ROS 2 tools: its key and certificate, the CA certificate, the signed governance and its
-// own signed permissions); the CA's key is kept apart (`ca/`), to be stored offline. Private keys are mode 0600, the
-// folders 0700.
+// follower, the control panel and the observer (ROS 2 tools that watch the robot), a signed governance document that
+// authenticates and encrypts everything, and a signed permissions document per participant that grants it only its
+// own topics. Each role gets a bundle of its own (`leader/`, `follower/`, `panel/`, `observer/`: its key and
+// certificate, the CA certificate, the signed governance and its own signed permissions); the CA's key is kept apart
+// (`ca/`), to be stored offline. Private keys are mode 0600, the folders 0700.
 
 #include <filesystem>
 #include <string>
