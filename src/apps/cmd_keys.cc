@@ -15,8 +15,9 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
   CLI::App* keys = app.add_subcommand("keys", "Credentials of the secured DDS link (DDS Security): init");
   keys->require_subcommand(1);
   CLI::App* init = keys->add_subcommand(
-      "init", "Make a CA, identities for leader, follower and panel, signed governance and permissions (openssl):\n"
-              "one folder per role (DIR/leader, DIR/follower, DIR/panel) and the CA apart (DIR/ca)\n"
+      "init", "Make a CA, identities for leader, follower, panel and observer (ROS 2 tools, read-only), signed "
+              "governance and permissions (openssl):\n"
+              "one folder per role (DIR/leader, DIR/follower, DIR/panel, DIR/observer) and the CA apart (DIR/ca)\n"
               "Example: robossis keys init ~/robossis-keys    (copy only DIR/leader to the leader PC, DIR/follower to "
               "the robot PC; store DIR/ca offline)");
   auto dir = std::make_shared<std::string>();
@@ -32,6 +33,8 @@ void RegisterKeysCommands(CLI::App& app, const AppContext& /*context*/) {
               << "  " << (d / "leader").string() << "    copy to the leader PC only: --keys DIR/leader\n"
               << "  " << (d / "follower").string() << "  copy to the robot PC only: --keys DIR/follower\n"
               << "  " << (d / "panel").string() << "     copy to the panel's machine only: --keys DIR/panel\n"
+              << "  " << (d / "observer").string()
+              << "  for ROS 2 tools (rviz, ros2 bag): reads the status, commands nothing (src/link/README.md)\n"
               << "  " << (d / link::kCaFolder).string()
               << "        the CA's key: move it OFFLINE now (never on a unit; needed only to sign new credentials)\n"
               << "valid for " << options->validity_days << " days\n";

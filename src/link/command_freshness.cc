@@ -14,24 +14,19 @@ const char* ToString(CommandFreshness f) {
 }
 
 CommandFreshness CommandFilter::Check(const teleop::StateCommandMessage& m, std::int64_t arrival_ns) noexcept {
-  const double offset = static_cast<double>(arrival_ns) - static_cast<double>(m.stamp_ns);
   Session* s = std::find_if(sessions_.begin(), sessions_.end(),
                             [&](const Session& x) { return x.used && x.session == m.session; });
   if (s == sessions_.end()) {  // a new sender session: its first command sets the reference
     s = &sessions_[next_];
     next_ = (next_ + 1) % sessions_.size();
-    *s = Session{true, m.session, m.sequence, m.stamp_ns, arrival_ns, offset};
+    *s = Session{true, m.session, m.sequence, m.stamp_ns, {}};
+    s->delivery.Start(m.stamp_ns, arrival_ns);
     return CommandFreshness::kAccepted;
   }
   if (m.sequence <= s->last_sequence || m.stamp_ns <= s->last_stamp_ns) return CommandFreshness::kReplayed;
-  // The session's fastest delivery, allowed to creep up with the elapsed time (clock drift).
-  const double elapsed = static_cast<double>(std::max<std::int64_t>(0, arrival_ns - s->last_arrival_ns));
-  const double floor = std::min(s->min_offset_ns + drift_allowance_ * elapsed, offset);
-  if (offset - floor > static_cast<double>(max_age_ns_)) return CommandFreshness::kStale;
-  s->min_offset_ns = floor;
+  if (!s->delivery.Admit(m.stamp_ns, arrival_ns, max_age_ns_, drift_allowance_)) return CommandFreshness::kStale;
   s->last_sequence = m.sequence;
   s->last_stamp_ns = m.stamp_ns;
-  s->last_arrival_ns = arrival_ns;
   return CommandFreshness::kAccepted;
 }
 

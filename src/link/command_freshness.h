@@ -3,8 +3,8 @@
 // right to publish commands, but does not stop an authenticated sample from being captured and sent again). A
 // command that is not newer than the last accepted one of its sender's session (same or lower sequence, same or
 // older stamp) is dropped as replayed; one that arrives more than max_age after the session's fastest delivery is
-// dropped as stale (the clocks are not synchronised: as in setpoint_freshness.h, age is judged against the smallest
-// arrival − stamp of the session, allowed to creep up by the drift allowance). The caller counts the drops.
+// dropped as stale (the clocks are not synchronised: as for set-points, age is judged against the session's fastest
+// delivery, delivery_floor.h). The caller counts the drops.
 //
 // Several senders may command (the panel, a restarted panel): the last kCommandSessions sessions are remembered.
 // A command from a session never seen is the start of a new session and is accepted; a session forgotten since
@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "src/link/delivery_floor.h"
 #include "src/teleop/link_messages.h"
 
 namespace robossis::link {
@@ -42,8 +43,7 @@ class CommandFilter {
     std::uint64_t session = 0;
     std::uint64_t last_sequence = 0;
     std::int64_t last_stamp_ns = 0;
-    std::int64_t last_arrival_ns = 0;
-    double min_offset_ns = 0;  // smallest arrival − stamp of the session, allowed to creep up by the drift
+    DeliveryFloor delivery;
   };
   std::int64_t max_age_ns_;
   double drift_allowance_;

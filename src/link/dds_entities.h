@@ -65,6 +65,27 @@ class WakeSignal {
   int fd_ = -1;
 };
 
+// Takes every sample waiting on `reader` (loaned by Cyclone and returned after use: nothing is copied) and calls
+// `apply(const Sample&)` for each one that carries data. True if any did. Link threads only (dds_take locks).
+template <typename Sample, typename Apply>
+bool TakeEach(dds_entity_t reader, Apply&& apply) {
+  constexpr int kBatch = 16;
+  void* samples[kBatch];
+  dds_sample_info_t infos[kBatch];
+  bool any = false;
+  for (;;) {
+    for (auto& s : samples) s = nullptr;  // null buffers: Cyclone lends its own
+    const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
+    if (n <= 0) return any;
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      apply(*static_cast<const Sample*>(samples[i]));
+      any = true;
+    }
+    dds_return_loan(reader, samples, n);
+  }
+}
+
 // Throws std::runtime_error("what: <Cyclone's reason>") when rc < 0.
 dds_entity_t Check(dds_entity_t rc, const char* what);
 

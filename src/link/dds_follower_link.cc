@@ -13,23 +13,6 @@ namespace {
 std::int64_t Ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 constexpr char kFrameId[] = "rsr_fixed_ring";
 constexpr const char* kJointNames[6] = {"theta1", "theta2", "theta3", "d1", "d2", "d3"};
-
-// Takes every sample waiting on `reader` into fixed buffers (fixed-size types: no allocation) and applies `apply` to
-// each valid one.
-template <typename Sample, int kBatch, typename Apply>
-void TakeEach(dds_entity_t reader, Apply&& apply) {
-  Sample samples[kBatch];
-  void* buffers[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (int i = 0; i < kBatch; ++i) buffers[i] = &samples[i];
-  for (;;) {
-    const dds_return_t n = dds_take(reader, buffers, infos, kBatch, kBatch);
-    if (n <= 0) return;
-    for (int i = 0; i < n; ++i) {
-      if (infos[i].valid_data) apply(samples[i]);
-    }
-  }
-}
 }  // namespace
 
 DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& clock)
@@ -115,7 +98,7 @@ void DdsFollowerLink::ReceiveLoop() {
 }
 
 void DdsFollowerLink::TakeSetPoints() {
-  TakeEach<robossis_msgs_msg_dds__SetPoint_, 16>(setpoint_reader_, [&](const robossis_msgs_msg_dds__SetPoint_& w) {
+  TakeEach<robossis_msgs_msg_dds__SetPoint_>(setpoint_reader_, [&](const robossis_msgs_msg_dds__SetPoint_& w) {
     const std::int64_t arrival = Ns(clock_.NowS());
     counters_.received.fetch_add(1, std::memory_order_relaxed);
     SetPointArrival a;
@@ -139,40 +122,31 @@ void DdsFollowerLink::TakeSetPoints() {
 }
 
 void DdsFollowerLink::TakeCommands() {
-  constexpr int kBatch = 8;
-  void* samples[kBatch] = {};
-  dds_sample_info_t infos[kBatch];
-  for (;;) {
-    const dds_return_t n = dds_take(command_reader_, samples, infos, kBatch, kBatch);  // loaned samples
-    if (n <= 0) return;
-    for (int i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      const std::int64_t arrival = Ns(clock_.NowS());
-      counters_.commands.fetch_add(1, std::memory_order_relaxed);
-      teleop::StateCommandMessage m;
-      if (!FromWire(*static_cast<const robossis_msgs_msg_dds__StateCommand_*>(samples[i]), m)) {
-        counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
-      if (m.command == teleop::StateCommand::kEStop) {
-        estop_.Engage();  // the level, not the queue; an E-stop is never refused as replayed or stale
-        continue;
-      }
-      // Only the panel's credentials can publish here (access control); this drops what it sent before again.
-      switch (command_filter_.Check(m, arrival)) {
-        case CommandFreshness::kAccepted: break;
-        case CommandFreshness::kReplayed: counters_.commands_replayed.fetch_add(1, std::memory_order_relaxed); continue;
-        case CommandFreshness::kStale: counters_.commands_stale.fetch_add(1, std::memory_order_relaxed); continue;
-      }
-      if (!commands_.TryPush(m)) counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
+  TakeEach<robossis_msgs_msg_dds__StateCommand_>(command_reader_, [&](const robossis_msgs_msg_dds__StateCommand_& w) {
+    const std::int64_t arrival = Ns(clock_.NowS());
+    counters_.commands.fetch_add(1, std::memory_order_relaxed);
+    teleop::StateCommandMessage m;
+    if (!FromWire(w, m)) {
+      counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
+      return;
     }
-    dds_return_loan(command_reader_, samples, n);
-  }
+    if (m.command == teleop::StateCommand::kEStop) {
+      estop_.Engage();  // the level, not the queue; an E-stop is never refused as replayed or stale
+      return;
+    }
+    // Only the panel's credentials can publish here (access control); this drops what it sent before again.
+    switch (command_filter_.Check(m, arrival)) {
+      case CommandFreshness::kAccepted: break;
+      case CommandFreshness::kReplayed: counters_.commands_replayed.fetch_add(1, std::memory_order_relaxed); return;
+      case CommandFreshness::kStale: counters_.commands_stale.fetch_add(1, std::memory_order_relaxed); return;
+    }
+    if (!commands_.TryPush(m)) counters_.commands_dropped.fetch_add(1, std::memory_order_relaxed);
+  });
 }
 
 void DdsFollowerLink::TakeEStops() {
   if (estop_reader_ <= 0) return;
-  TakeEach<robossis_msgs_msg_dds__EStop_, 8>(estop_reader_, [&](const robossis_msgs_msg_dds__EStop_& w) {
+  TakeEach<robossis_msgs_msg_dds__EStop_>(estop_reader_, [&](const robossis_msgs_msg_dds__EStop_& w) {
     if (w.engaged) estop_.Engage();
   });
 }
@@ -203,8 +177,11 @@ void DdsFollowerLink::SendLoop() {
     if (stop_.load(std::memory_order_acquire)) break;
     teleop::FollowerStatusMessage m;
     if (!status_.ReadNewer(m, version_sent)) continue;
+    // Stamped when written: the send thread writes each status as the loop publishes it, so the stamp trails the
+    // measurement by the thread's wake-up only.
+    const std::int64_t stamp = SystemNowNs();
     geometry_msgs_msg_dds__PoseStamped_ cp{};
-    ToMeasuredCp(m, frame_id, cp);
+    ToMeasuredCp(m, stamp, frame_id, cp);
     dds_write(cp_writer_, &cp);
     sensor_msgs_msg_dds__JointState_ js{};
     js.header = cp.header;
@@ -217,7 +194,7 @@ void DdsFollowerLink::SendLoop() {
     if (!have_state || m.state != last_state || m.fault_reason != last_reason ||
         now - last_state_ns >= Ns(options_.tuning.status_state_period_s)) {
       robossis_msgs_msg_dds__OperatingState_ st{};
-      ToOperatingState(m, frame_id, st);
+      ToOperatingState(m, stamp, frame_id, st);
       dds_write(state_writer_, &st);
       have_state = true;
       last_state = m.state;

@@ -14,7 +14,9 @@
 namespace robossis::link {
 
 DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dds_(options) {
-  if (options.role == Role::kFollower) throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
+  if (options.role != Role::kLeader && options.role != Role::kPanel) {
+    throw std::runtime_error("DdsLeaderLink: the role must be leader or panel");
+  }
   // Each role gets the writers its permissions grant (keys.cc, TopicsOf), and could create no other: the leader
   // sends set-points only, the panel state commands only (enable, reset, home: never the leader's to give).
   if (options.role == Role::kLeader) setpoint_writer_ = dds_.CreateWriter(Topic::kSetPoint);
@@ -165,39 +167,23 @@ void DdsLeaderLink::SendLoop() {
 void DdsLeaderLink::ReceiveLoop() {
   dds_attach_t triggered[4];
   teleop::FollowerStatusMessage assembled;
-  constexpr int kBatch = 8;
-  void* samples[kBatch];
-  dds_sample_info_t infos[kBatch];
-  auto take = [&](dds_entity_t reader, auto&& apply) {
-    bool any = false;
-    for (;;) {
-      for (auto& s : samples) s = nullptr;
-      const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);  // loaned samples
-      if (n <= 0) return any;
-      for (int i = 0; i < n; ++i) {
-        if (infos[i].valid_data) {
-          apply(samples[i]);
-          any = true;
-        }
-      }
-      dds_return_loan(reader, samples, n);
-    }
-  };
+  using JointState = sensor_msgs_msg_dds__JointState_;
+  using PoseStamped = geometry_msgs_msg_dds__PoseStamped_;
+  using OperatingState = robossis_msgs_msg_dds__OperatingState_;
   while (!stop_.load(std::memory_order_acquire)) {
     const dds_return_t n = dds_waitset_wait(waitset_, triggered, 4, DDS_MSECS(100));
     if (stop_.load(std::memory_order_acquire)) break;
     if (n <= 0) continue;
-    bool changed = take(js_reader_, [&](void* s) {
-      const auto* js = static_cast<const sensor_msgs_msg_dds__JointState_*>(s);
-      for (std::uint32_t i = 0; i < 6 && i < js->position._length; ++i) assembled.joints[i] = js->position._buffer[i];
-      for (std::uint32_t i = 0; i < 6 && i < js->effort._length; ++i) assembled.effort[i] = js->effort._buffer[i];
+    bool changed = TakeEach<JointState>(js_reader_, [&](const JointState& js) {
+      for (std::uint32_t i = 0; i < 6 && i < js.position._length; ++i) assembled.joints[i] = js.position._buffer[i];
+      for (std::uint32_t i = 0; i < 6 && i < js.effort._length; ++i) assembled.effort[i] = js.effort._buffer[i];
     });
-    changed |= take(state_reader_, [&](void* s) {
-      FromOperatingState(*static_cast<const robossis_msgs_msg_dds__OperatingState_*>(s), assembled);
+    changed |= TakeEach<OperatingState>(state_reader_, [&](const OperatingState& st) {
+      FromOperatingState(st, assembled);
       counters_.state.fetch_add(1, std::memory_order_relaxed);
     });
-    changed |= take(cp_reader_, [&](void* s) {
-      FromMeasuredCp(*static_cast<const geometry_msgs_msg_dds__PoseStamped_*>(s), assembled);
+    changed |= TakeEach<PoseStamped>(cp_reader_, [&](const PoseStamped& cp) {
+      FromMeasuredCp(cp, assembled);
       counters_.status.fetch_add(1, std::memory_order_relaxed);
     });
     if (changed) status_.Publish(assembled);

@@ -13,7 +13,7 @@ namespace robossis::link {
 
 namespace {
 
-constexpr Role kRoles[] = {Role::kLeader, Role::kFollower, Role::kPanel};
+constexpr Role kRoles[] = {Role::kLeader, Role::kFollower, Role::kPanel, Role::kObserver};
 
 // Runs `openssl args...` in `dir`, stdout and stderr to `log`. Throws naming the step on failure.
 void RunOpenssl(const std::vector<std::string>& args, const std::filesystem::path& dir,
@@ -51,6 +51,13 @@ std::string TopicList(const std::vector<std::string>& topics) {
 
 }  // namespace
 
+std::vector<std::string> Ros2NodeTopics() {
+  // rmw_cyclonedds's graph topic (written as a node starts), each node's log and parameter events, the transforms
+  // rviz and tf2 listen to (a static transform placing the robot is a user's to publish), and the parameter services
+  // every rclcpp node serves (request rq/<node>/...Request, reply rr/<node>/...Reply). The robot answers no service.
+  return {"ros_discovery_info", "rt/rosout", "rt/parameter_events", "rt/tf", "rt/tf_static", "rq/*", "rr/*"};
+}
+
 RoleTopics TopicsOf(Role role, const std::string& ns) {  // WireTopicName validates ns
   LinkOptions o;
   o.topic_namespace = ns;
@@ -64,9 +71,17 @@ RoleTopics TopicsOf(Role role, const std::string& ns) {  // WireTopicName valida
     case Role::kLeader: topics = {{n(Topic::kSetPoint)}, status}; break;
     case Role::kFollower: topics = {status, {n(Topic::kSetPoint), n(Topic::kStateCommand)}}; break;
     case Role::kPanel: topics = {{n(Topic::kStateCommand)}, status}; break;
+    case Role::kObserver: {
+      // A ROS 2 node that watches: the status topics, and what every ROS 2 node needs to start. It publishes only
+      // those ROS 2 topics, none of them under rt/<ns>/, so it can command nothing (not even an E-stop).
+      const std::vector<std::string> ros2 = Ros2NodeTopics();
+      topics = {ros2, status};
+      topics.subscribe.insert(topics.subscribe.end(), ros2.begin(), ros2.end());
+      return topics;
+    }
   }
-  // The E-stop is everyone's to give (the leader on a device failure, the panel, `robossis estop`); the follower
-  // reads it.
+  // The E-stop is every link end's to give (the leader on a device failure, the panel, `robossis estop`); the
+  // follower reads it.
   (role == Role::kFollower ? topics.subscribe : topics.publish).push_back(n(Topic::kEStop));
   return topics;
 }

@@ -1,11 +1,11 @@
 #pragma once
 // The credentials of the secured link (DDS Security: authentication, access control, cryptography), made with the
 // `openssl` command line: one CA (identity and permissions CA), an identity certificate and key for the leader, the
-// follower and the control panel, a signed governance document that authenticates and encrypts everything, and a
-// signed permissions document per participant that grants it only its own topics. Each role gets a bundle of its
-// own (`leader/`, `follower/`, `panel/`: its key and certificate, the CA certificate, the signed governance and its
-// own signed permissions); the CA's key is kept apart (`ca/`), to be stored offline. Private keys are mode 0600, the
-// folders 0700.
+// follower, the control panel and the observer (ROS 2 tools that watch the robot), a signed governance document that
+// authenticates and encrypts everything, and a signed permissions document per participant that grants it only its
+// own topics. Each role gets a bundle of its own (`leader/`, `follower/`, `panel/`, `observer/`: its key and
+// certificate, the CA certificate, the signed governance and its own signed permissions); the CA's key is kept apart
+// (`ca/`), to be stored offline. Private keys are mode 0600, the folders 0700.
 
 #include <filesystem>
 #include <string>
@@ -42,6 +42,9 @@ struct RoleTopics {
   std::vector<std::string> subscribe;
 };
 RoleTopics TopicsOf(Role role, const std::string& topic_namespace);
+// The ROS 2 topics (DDS names) the observer may publish and subscribe to besides the robot's status, so that a
+// ROS 2 node can start with its credentials (see TopicsOf).
+std::vector<std::string> Ros2NodeTopics();
 
 // The governance and permissions documents (unsigned XML), exposed for tests and inspection. Every value is
 // XML-escaped; the namespace is validated as in TopicsOf.
@@ -52,9 +55,9 @@ std::string PermissionsXml(Role role, const std::string& subject_name, const std
 // The folder of `dir` that holds the CA (certificate, key, governance): never copied to a unit.
 inline constexpr char kCaFolder[] = "ca";
 
-// Makes the credentials in `dir` (which must not exist or be empty): dir/ca, dir/leader, dir/follower, dir/panel. The options are checked
-// (ValidateKeysInitOptions) before anything is written; everything is made in a staging folder and moved in only
-// when complete. Throws std::runtime_error naming the openssl step that failed.
+// Makes the credentials in `dir` (which must not exist or be empty): dir/ca, dir/leader, dir/follower, dir/panel,
+// dir/observer. The options are checked (ValidateKeysInitOptions) before anything is written; everything is made in
+// a staging folder and moved in only when complete. Throws std::runtime_error naming the openssl step that failed.
 void InitKeys(const std::filesystem::path& dir, const KeysInitOptions& options);
 
 // Refuses (std::runtime_error naming the file and the fix) a role's credentials folder that holds the CA's key or

@@ -12,6 +12,7 @@ const char* ToString(Role role) {
     case Role::kLeader: return "leader";
     case Role::kFollower: return "follower";
     case Role::kPanel: return "panel";
+    case Role::kObserver: return "observer";
   }
   return "?";
 }

@@ -15,8 +15,9 @@ class ConfigNode;
 
 namespace robossis::link {
 
-// The three kinds of participant that hold credentials (`robossis keys init` makes one identity for each).
-enum class Role { kLeader, kFollower, kPanel };
+// The kinds of participant that hold credentials (`robossis keys init` makes one identity for each). The observer
+// is not a link end: it is a ROS 2 node (rviz, ros2 bag, ...) that watches the robot's status and commands nothing.
+enum class Role { kLeader, kFollower, kPanel, kObserver };
 const char* ToString(Role role);
 
 // Timing and sanity bounds of the link (data/config/link.yaml, every value [assumed] there).

@@ -2,16 +2,14 @@
 // Application-level freshness of set-points, on top of DDS Security: a set-point that is out of order, replayed,
 // from a retired leader session, or older than the age limit is dropped (and counted by the caller).
 //
-// The two units' clocks are not synchronised, so the age of a set-point cannot be read off its stamp. Instead the
-// filter tracks the smallest (arrival − stamp) of the session (clock offset + fastest delivery) and judges each
-// set-point by how much later than that it arrives. The minimum may creep upward by the drift allowance, so a
-// follower clock running fast is absorbed. A delay present from the session's very first set-point is not seen
-// (the follower's watchdog still holds on silence). Plain logic: no allocation, no locks, and no signed overflow
-// for any int64 stamp or arrival (the differences saturate).
+// Age is judged against the session's fastest delivery (delivery_floor.h: the clocks are not synchronised); a delay
+// present from the session's very first set-point is not seen (the follower's watchdog still holds on silence).
+// Plain logic: no allocation, no locks, and no signed overflow for any int64 stamp or arrival.
 
 #include <array>
 #include <cstdint>
 
+#include "src/link/delivery_floor.h"
 #include "src/teleop/link_messages.h"
 
 namespace robossis::link {
@@ -45,8 +43,7 @@ class SetPointFreshness {
   bool have_session_ = false;
   std::uint64_t session_ = 0;
   std::uint64_t last_sequence_ = 0;
-  std::int64_t last_arrival_ns_ = 0;
-  double min_offset_ns_ = 0;  // smallest arrival − stamp of the session, allowed to creep up by the drift
+  DeliveryFloor delivery_;
   std::array<std::uint64_t, 16> retired_{};
   std::size_t retired_next_ = 0;
   std::size_t retired_count_ = 0;

@@ -1,5 +1,7 @@
 #include "src/link/wire_convert.h"
 
+#include <time.h>
+
 #include <cstring>
 
 namespace robossis::link {
@@ -16,6 +18,12 @@ builtin_interfaces_msg_dds__Time_ ToTime(std::int64_t stamp_ns) noexcept {
 
 std::int64_t FromTime(const builtin_interfaces_msg_dds__Time_& t) noexcept {
   return static_cast<std::int64_t>(t.sec) * 1000000000 + static_cast<std::int64_t>(t.nanosec);
+}
+
+std::int64_t SystemNowNs() noexcept {
+  timespec t{};
+  clock_gettime(CLOCK_REALTIME, &t);
+  return static_cast<std::int64_t>(t.tv_sec) * 1000000000 + t.tv_nsec;
 }
 
 namespace {
@@ -122,15 +130,16 @@ bool ParseOperatingStateName(const char* name, teleop::OperatingState& s) noexce
   return false;
 }
 
-void ToMeasuredCp(const teleop::FollowerStatusMessage& m, char* frame_id, geometry_msgs_msg_dds__PoseStamped_& w) noexcept {
-  w.header.stamp = ToTime(m.stamp_ns);
+void ToMeasuredCp(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,
+                  geometry_msgs_msg_dds__PoseStamped_& w) noexcept {
+  w.header.stamp = ToTime(header_stamp_ns);
   w.header.frame_id = frame_id;
   ToPose(m.p_FM, m.q_FM, w.pose);
 }
 
-void ToOperatingState(const teleop::FollowerStatusMessage& m, char* frame_id,
+void ToOperatingState(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,
                       robossis_msgs_msg_dds__OperatingState_& w) noexcept {
-  w.header.stamp = ToTime(m.stamp_ns);
+  w.header.stamp = ToTime(header_stamp_ns);
   w.header.frame_id = frame_id;
   w.state = const_cast<char*>(OperatingStateName(m.state));
   w.is_homed = m.homed;

@@ -28,9 +28,17 @@ bool FromWire(const robossis_msgs_msg_dds__StateCommand_& w, teleop::StateComman
 const char* OperatingStateName(teleop::OperatingState s) noexcept;
 bool ParseOperatingStateName(const char* name, teleop::OperatingState& s) noexcept;
 
-// Status → measured_cp / operating_state (strings point at static storage or `frame_id`).
-void ToMeasuredCp(const teleop::FollowerStatusMessage& m, char* frame_id, geometry_msgs_msg_dds__PoseStamped_& w) noexcept;
-void ToOperatingState(const teleop::FollowerStatusMessage& m, char* frame_id, robossis_msgs_msg_dds__OperatingState_& w) noexcept;
+// The system clock (CLOCK_REALTIME) in ns since 1970: what ROS 2's now() gives without simulated time.
+std::int64_t SystemNowNs() noexcept;
+
+// Status → measured_cp / operating_state (strings point at static storage or `frame_id`). The headers carry
+// `header_stamp_ns`, the system clock (so that rviz, tf2 and message_filters read them as now); the follower's own
+// clock (m.stamp_ns, what its flight recorder and the link's freshness use) stays in operating_state's stamp_ns.
+void ToMeasuredCp(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,
+                  geometry_msgs_msg_dds__PoseStamped_& w) noexcept;
+void ToOperatingState(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,
+                      robossis_msgs_msg_dds__OperatingState_& w) noexcept;
+// measured_cp → status: m.stamp_ns becomes the header's stamp (the follower's system clock).
 void FromMeasuredCp(const geometry_msgs_msg_dds__PoseStamped_& w, teleop::FollowerStatusMessage& m) noexcept;
 void FromOperatingState(const robossis_msgs_msg_dds__OperatingState_& w, teleop::FollowerStatusMessage& m) noexcept;
 

@@ -343,7 +343,7 @@ TEST(Keys, InitMakesOneBundlePerRoleWithOnlyItsOwnKeyAndTheCaApart) {
   namespace fs = std::filesystem;
   const fs::path& dir = testing::TestKeys();
   const fs::perms owner_rw = fs::perms::owner_read | fs::perms::owner_write;
-  for (const std::string role : {"leader", "follower", "panel"}) {
+  for (const std::string role : {"leader", "follower", "panel", "observer"}) {
     std::set<std::string> files;
     for (const auto& e : fs::directory_iterator(dir / role)) files.insert(e.path().filename().string());
     EXPECT_EQ(files, (std::set<std::string>{"ca_cert.pem", "governance.p7s", "governance.xml", role + "_cert.pem",
@@ -354,12 +354,13 @@ TEST(Keys, InitMakesOneBundlePerRoleWithOnlyItsOwnKeyAndTheCaApart) {
     EXPECT_EQ(fs::status(dir / role).permissions(), fs::perms::owner_all) << role;
     EXPECT_NO_THROW(CheckCredentialBundle(dir / role, role == "leader"     ? Role::kLeader
                                                       : role == "follower" ? Role::kFollower
-                                                                           : Role::kPanel));
+                                                      : role == "panel"    ? Role::kPanel
+                                                                           : Role::kObserver));
   }
   EXPECT_EQ(fs::status(dir / kCaFolder / "ca_key.pem").permissions(), owner_rw);
   EXPECT_TRUE(fs::exists(dir / kCaFolder / "ca_cert.pem"));
   EXPECT_EQ(fs::status(dir).permissions(), fs::perms::owner_all);
-  // Nothing at the top but the four folders (and the output marker): no key to copy by accident.
+  // Nothing at the top but the five folders (and the output marker): no key to copy by accident.
   for (const auto& e : fs::directory_iterator(dir)) {
     EXPECT_TRUE(e.is_directory() || e.path().filename().string().front() == '.') << e.path();
   }
@@ -408,6 +409,19 @@ TEST(Keys, ABundleHoldingAnotherRolesKeyIsRefused) {
   ExpectBundleRefused(
       [](const auto& b) { std::filesystem::copy(testing::TestKeys() / "leader" / "leader_key.pem", b); },
       "leader_key.pem", "remove leader_key.pem");
+  // The observer's key is another role's too (a ROS 2 tool's credentials do not belong on the robot PC) ...
+  ExpectBundleRefused(
+      [](const auto& b) { std::filesystem::copy(testing::TestKeys() / "observer" / "observer_key.pem", b); },
+      "observer_key.pem", "remove observer_key.pem");
+  // ... and the observer's own bundle must not hold a unit's key.
+  namespace fs = std::filesystem;
+  const fs::path bundle = fs::temp_directory_path() / ("robossis-link-test-observer-" + std::to_string(getpid()));
+  fs::remove_all(bundle);
+  fs::copy(testing::TestKeys() / "observer", bundle);
+  EXPECT_NO_THROW(CheckCredentialBundle(bundle, Role::kObserver));
+  fs::copy(testing::TestKeys() / "panel" / "panel_key.pem", bundle);
+  EXPECT_THROW(CheckCredentialBundle(bundle, Role::kObserver), std::runtime_error);
+  fs::remove_all(bundle);
 }
 
 TEST(Keys, APrivateKeyReadableByGroupOrOthersIsRefused) {
@@ -449,6 +463,26 @@ TEST(DdsLink, LeaderCredentialsCannotResetOrEnableTheFollower) {
   EXPECT_EQ(follower.Statistics().commands_received, 0u);
   EXPECT_EQ(leader.Statistics().commands_sent, 0u);
   EXPECT_EQ(leader.Statistics().commands_refused, 500u);
+}
+
+// The observer (the credentials of a ROS 2 tool) watches and commands nothing: access control refuses it a writer on
+// the set-point, the state command and the E-stop (Cyclone: "Not Allowed By Security"), and grants it the status.
+TEST(DdsLink, ObserverCredentialsCannotCommandTheRobot) {
+  DdsParticipant observer(LoopbackOptions(Role::kObserver));
+  int refused = 0;
+  for (const Topic topic : {Topic::kSetPoint, Topic::kStateCommand, Topic::kEStop}) {
+    try {
+      observer.CreateWriter(topic);
+      ADD_FAILURE() << "the observer's credentials created a writer on " << TopicName(topic);
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("Not Allowed By Security"), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 3);
+  for (const Topic topic : {Topic::kMeasuredCp, Topic::kMeasuredJs, Topic::kOperatingState}) {
+    EXPECT_NO_THROW(observer.CreateReader(topic)) << TopicName(topic);
+  }
 }
 
 // An authenticated panel's command sent again (a captured sample replayed, the same session and sequence, or an old

@@ -208,7 +208,7 @@ TEST(WireConvert, TheHomedFlagAndANotHomedRefusalTravel) {
   robossis_msgs_msg_dds__OperatingState_ w{};
   for (bool homed : {false, true}) {
     m.homed = homed;
-    ToOperatingState(m, frame_id, w);
+    ToOperatingState(m, 0, frame_id, w);
     EXPECT_EQ(w.is_homed, homed);
     teleop::FollowerStatusMessage back;
     FromOperatingState(w, back);
@@ -265,6 +265,20 @@ TEST(Permissions, EachRoleIsGrantedOnlyItsOwnTopics) {
   EXPECT_EQ(xml.find("rt/rsr/setpoint"), std::string::npos);
   EXPECT_NE(xml.find("<default>DENY</default>"), std::string::npos);
   EXPECT_NE(xml.find("CN=panel,O=Robossis,C=US"), std::string::npos);
+}
+
+// The observer (a ROS 2 tool) may read the status and ROS 2's own topics, and publish nothing under rt/rsr/.
+TEST(Permissions, TheObserverReadsTheStatusAndPublishesNothingOfTheRobots) {
+  const auto observer = TopicsOf(Role::kObserver, "rsr");
+  for (const auto& t : observer.publish) EXPECT_NE(t.rfind("rt/rsr/", 0), 0u) << t;
+  for (const auto& t : observer.publish) EXPECT_NE(t.rfind("rt/*", 0), 0u) << t;  // no wildcard over rt/rsr/
+  for (const std::string t : {"rt/rsr/measured_cp", "rt/rsr/measured_js", "rt/rsr/operating_state"}) {
+    EXPECT_NE(std::find(observer.subscribe.begin(), observer.subscribe.end(), t), observer.subscribe.end()) << t;
+  }
+  for (const std::string t : {"ros_discovery_info", "rt/rosout", "rt/parameter_events"}) {
+    EXPECT_NE(std::find(observer.publish.begin(), observer.publish.end(), t), observer.publish.end()) << t;
+    EXPECT_NE(std::find(observer.subscribe.begin(), observer.subscribe.end(), t), observer.subscribe.end()) << t;
+  }
 }
 
 TEST(Permissions, HostileNamespacesAreRefusedAndValuesEscaped) {
