@@ -66,6 +66,28 @@ TEST_F(HostileKeysMocapTest, KeysInitPermissionsGrantOnlyTheLinksOwnTopics) {
   }
 }
 
+TEST_F(HostileKeysMocapTest, KeysInitObserverPublishesNothingOfTheRobots) {
+  const fs::path keys = dir_ / "keys";
+  const CommandRun run = Robossis("keys init " + Q(keys));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string xml = Read(keys / "observer" / "observer_permissions.xml");
+  const std::regex publish("<publish>([\\s\\S]*?)</publish>");
+  const std::regex topic("<topic>([^<]*)</topic>");
+  int published = 0;
+  for (auto p = std::sregex_iterator(xml.begin(), xml.end(), publish); p != std::sregex_iterator(); ++p) {
+    const std::string block = (*p)[1].str();
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), topic); it != std::sregex_iterator(); ++it) {
+      ++published;
+      const std::string name = (*it)[1].str();
+      EXPECT_NE(name.rfind("rt/rsr", 0), 0u) << name;          // nothing of the robot's
+      EXPECT_NE(name.rfind("rt/*", 0), 0u) << name;            // no pattern that would cover it
+      EXPECT_NE(name, "*");
+    }
+  }
+  EXPECT_GT(published, 0) << "the observer should publish ROS 2's own topics";
+  EXPECT_NE(xml.find("rt/rsr/measured_cp"), std::string::npos);
+}
+
 // --- mocap simulate: rigid body names a CSV cell can hold -------------------------------------------------------
 
 TEST_F(HostileKeysMocapTest, SimulateRefusesNamesThatBreakTheCsv) {
