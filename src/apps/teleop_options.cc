@@ -31,6 +31,9 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
     cmd.add_option("--feedback-gain", o.feedback_gain,
                    "Share of the follower's wrench felt at the hand, 0-1 (default: leader.yaml feedback.gain)")
         ->check(CLI::Range(0.0, 1.0));
+    cmd.add_option("--feedback-passivity", o.feedback_passivity,
+                   "The load's passivity controller: off | classic (one-port) | network (delay-aware; default: "
+                   "leader.yaml feedback.passivity)");
   }
   if (units != TeleopUnits::kLeader) {
     cmd.add_option("--follower", o.follower,
@@ -89,6 +92,8 @@ TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o,
   if (o.feedback) teleop::ParseFeedbackMode("--feedback", *o.feedback);  // checked before any work
   request.feedback = o.feedback.value_or("");
   request.feedback_gain = o.feedback_gain.value_or(-1.0);
+  if (o.feedback_passivity) teleop::ParseFeedbackPassivityScheme("--feedback-passivity", *o.feedback_passivity);
+  request.feedback_passivity = o.feedback_passivity.value_or("");
   if ((o.sim_load_n > 0 || o.sim_load_nm > 0) && o.follower != "sim") {
     throw std::invalid_argument("--sim-load-n/--sim-load-nm: only the Bullet follower (--follower sim) has muscles");
   }
@@ -100,6 +105,7 @@ std::vector<std::string> FeedbackArgs(const TeleopCliOptions& o) {
   std::vector<std::string> args;
   if (o.feedback) args.insert(args.end(), {"--feedback", *o.feedback});
   if (o.feedback_gain) args.insert(args.end(), {"--feedback-gain", std::to_string(*o.feedback_gain)});
+  if (o.feedback_passivity) args.insert(args.end(), {"--feedback-passivity", *o.feedback_passivity});
   return args;
 }
 

@@ -32,6 +32,7 @@ struct TeleopCliOptions {
   // Bilateral feedback (leader): walls | bilateral, and its gain (leader.yaml `feedback` unless given).
   std::optional<std::string> feedback;
   std::optional<double> feedback_gain;
+  std::optional<std::string> feedback_passivity;
   // The Bullet follower's muscle traction (N along the femur axis, N·m about it).
   double sim_load_n = 0;
   double sim_load_nm = 0;

@@ -40,7 +40,7 @@ const char* ToString(FeedbackPassivityScheme scheme);
 FeedbackPassivityScheme ParseFeedbackPassivityScheme(const char* where, const std::string& value);
 
 struct FeedbackPassivityConfig {
-  FeedbackPassivityScheme scheme = FeedbackPassivityScheme::kNetwork;
+  FeedbackPassivityScheme scheme = FeedbackPassivityScheme::kClassic;  // leader.yaml: the one bound at the hand
   // [assumed] the largest damper the controller adds, linear and angular: 30 N·s/m is twice the walls' eq. 18 damping
   // (15 N·s/m, paper §VI-A), 0.05 N·m·s/rad the same share of the torque cap; the sigma.7 renders both stably.
   double max_damping_n_s_per_m = 30.0;

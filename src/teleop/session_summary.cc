@@ -74,9 +74,6 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
     if (r.passivity_active) ++passivity_active_ticks_;
     min_passivity_observed_j_ = std::min(min_passivity_observed_j_, r.passivity_observed_j);
   }
-  double drift2 = 0;
-  for (int i = 0; i < 3; ++i) drift2 += (r.p_goal[i] - r.p_follower[i]) * (r.p_goal[i] - r.p_follower[i]);
-  position_drift_m_ = std::sqrt(drift2);
   if (r.sent_this_tick && r.stopped_at_boundary) ++stopped_at_boundary_;
   if (r.sent_this_tick && t_sent_.size() < kMaxDelaySamples) {
     t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
@@ -109,6 +106,11 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
 }
 
 void SessionSummary::AddFollower(const FollowerTickRecord& r) {
+  // The drift: the newest set-point the follower took (the leader's scaled hand, the link's delay removed) against
+  // its measured pose, as it stands at the end.
+  double drift2 = 0;
+  for (int i = 0; i < 3; ++i) drift2 += (r.setpoint_p_FM[i] - r.meas_p_FM[i]) * (r.setpoint_p_FM[i] - r.meas_p_FM[i]);
+  position_drift_m_ = std::sqrt(drift2);
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
@@ -201,8 +203,8 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["watchdog_holds"] = end_.watchdog_holds;
   // Bilateral feedback: the energy the feedback port gave the hand minus what it took (<= 0: passive), its largest
   // value at any tick, the largest load force shown, the shown force against the follower's load as received
-  // (gain and map applied: the link's delay removed, the caps and the passivity controller left in), the
-  // goal-to-follower distance at the end, and the share of the shown ticks the passivity controller acted in.
+  // (gain and map applied: the link's delay removed, the caps and the passivity controller left in), the follower's
+  // distance from its newest set-point at the end, and the share of the shown ticks the controller acted in.
   j["feedback_energy_j"] = feedback_energy_j_;
   j["feedback_energy_max_j"] = max_feedback_energy_j_;
   j["feedback_energy_in_j"] = feedback_in_j_;

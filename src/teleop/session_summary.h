@@ -87,7 +87,6 @@ class SessionSummary {
   std::uint64_t feedback_ticks_ = 0;     // ticks the follower's load was shown
   std::uint64_t passivity_active_ticks_ = 0;
   double min_passivity_observed_j_ = 0;
-  double position_drift_m_ = 0;          // |goal − follower| at the last tick
   // Follower.
   std::uint64_t follower_ticks_ = 0;
   double follower_last_s_ = -1;
@@ -103,6 +102,7 @@ class SessionSummary {
   nlohmann::ordered_json follower_transitions_ = nlohmann::ordered_json::array();
   std::string follower_csv_;
   int follower_decimation_ = 1;
+  double position_drift_m_ = 0;  // |newest set-point − measured| at the last follower tick
   SessionEndRecord end_;
   bool has_end_ = false;
 };

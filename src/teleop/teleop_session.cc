@@ -126,6 +126,9 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
   config.rate_hz = request.rate_hz;
   if (!request.feedback.empty()) config.feedback.mode = ParseFeedbackMode("--feedback", request.feedback);
   if (request.feedback_gain >= 0) config.feedback.gain = request.feedback_gain;
+  if (!request.feedback_passivity.empty()) {
+    config.feedback.passivity.scheme = ParseFeedbackPassivityScheme("--feedback-passivity", request.feedback_passivity);
+  }
   try {
     config.Validate();
   } catch (const std::invalid_argument& e) {

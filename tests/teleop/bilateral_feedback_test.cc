@@ -5,6 +5,7 @@
 // in-process link's delay line delivers nothing early.
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -17,8 +18,10 @@
 #include "src/teleop/bilateral_harness.h"
 #include "src/teleop/delay_line.h"
 #include "src/teleop/leader_unit.h"
+#include "src/teleop/teleop_session.h"
 #include "src/teleop/wrench_estimate.h"
 #include "tests/support/alloc_counter.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/teleop/teleop_fixture.h"
 
 namespace robossis::teleop {
@@ -164,6 +167,37 @@ TEST(BilateralFeedbackTest, FeedbackTickDoesNotAllocate) {
   }
   EXPECT_EQ(counter.count(), 0u);
   EXPECT_EQ(r.feedback_shown, 1);
+}
+
+// The whole runtime: the Bullet follower pulled by the paper's 517 N, 74 N·m, the hand's loop, 100 ms each way. The
+// load reaches the hand (scaled by the gain, within the caps) and the classic controller keeps the port passive at
+// every tick; with the walls alone nothing of it is shown.
+TEST(BilateralSessionTest, TheMusclesLoadIsFeltPassivelyBehindADelayAndNotWithTheWallsAlone) {
+  const robossis::testing::ScratchDir dir("robossis_bilateral_session");
+  std::filesystem::create_directories(dir.path());
+  TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  setup.transfer.caps.max_linear_speed_m_s = 0.1;
+  setup.transfer.caps.max_angular_speed_rad_s = DegToRad(20);
+  setup.follower.setpoint.caps = setup.transfer.caps;
+  TeleopRequest request;
+  request.device = "sim";
+  request.follower = "sim";
+  request.duration_s = 3;
+  request.sim_load_n = 517;
+  request.sim_load_nm = 74;
+  request.link_delay_s = 0.1;
+  request.feedback = "bilateral";
+  request.feedback_passivity = "classic";
+  const auto bilateral = RunTeleop(request, setup, dir.path() / "bilateral.rlog").summary;
+  const double felt = bilateral["max_feedback_force_n"].get<double>();
+  EXPECT_GT(felt, 0.9 * 0.025 * 517);
+  EXPECT_LE(felt, 15.0 + 1e-9);
+  EXPECT_LE(bilateral["feedback_energy_max_j"].get<double>(), 1e-9);
+  EXPECT_GE(bilateral["passivity_observer_min_j"].get<double>(), -1e-9);
+  EXPECT_EQ(bilateral["follower_limit_violations"].get<int>(), 0);
+  request.feedback = "walls";
+  const auto walls = RunTeleop(request, setup, dir.path() / "walls.rlog").summary;
+  EXPECT_EQ(walls["max_feedback_force_n"].get<double>(), 0.0);
 }
 
 TEST(WrenchEstimateTest, InvertsTheStaticsAndRemovesTheCarriedWeight) {
