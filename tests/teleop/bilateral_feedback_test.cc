@@ -17,6 +17,7 @@
 #include "src/core/units.h"
 #include "src/teleop/bilateral_harness.h"
 #include "src/teleop/delay_line.h"
+#include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
 #include "src/teleop/teleop_session.h"
 #include "src/teleop/wrench_estimate.h"
@@ -268,6 +269,32 @@ TEST(DelayLineTest, DeliversTheNewestMessageOnlyOnceItsDelayHasPassed) {
   ASSERT_TRUE(line.Take(40'000'000, v, due));
   EXPECT_EQ(v, 2);
   EXPECT_EQ(due, 26'000'000);
+}
+
+// --link-delay-ms: both directions of the in-process link arrive that much later, the set-point stamped with its
+// arrival (the follower judges freshness from it); a watcher reads the status as the follower published it.
+TEST(DelayLineTest, TheInProcessLinkDelaysBothDirections) {
+  rt::SimulatedClock clock;
+  InProcessLink link(clock, 64, 0.05);
+  SetPointMessage sp;
+  sp.sequence = 7;
+  link.SendSetPoint(sp);
+  FollowerStatusMessage status;
+  status.sequence = 9;
+  link.PublishStatus(status);
+  SetPointMessage got_sp;
+  FollowerStatusMessage got_status;
+  std::int64_t arrival_ns = 0;
+  clock.AdvanceNs(49'000'000);
+  EXPECT_FALSE(link.TakeSetPoint(got_sp, arrival_ns));
+  EXPECT_FALSE(link.TakeFollowerStatus(got_status));
+  EXPECT_TRUE(link.ReadFollowerStatus(got_status));
+  clock.AdvanceNs(1'000'000);
+  ASSERT_TRUE(link.TakeSetPoint(got_sp, arrival_ns));
+  EXPECT_EQ(got_sp.sequence, 7u);
+  EXPECT_EQ(arrival_ns, 50'000'000);
+  ASSERT_TRUE(link.TakeFollowerStatus(got_status));
+  EXPECT_EQ(got_status.sequence, 9u);
 }
 
 // The observer (the scheme's budget minus the output energy) never goes negative with a controller, at any delay,
