@@ -32,22 +32,18 @@ void FeedbackPassivityConfig::Validate() const {
   }
 }
 
-namespace {
-
-Eigen::Vector3d Capped(const Eigen::Vector3d& v, double max) noexcept {
+Eigen::Vector3d CapNorm(const Eigen::Vector3d& v, double max) noexcept {
   const double n = v.norm();
   return n > max ? Eigen::Vector3d(v * (max / n)) : v;
 }
 
-}  // namespace
-
 CappedWrench CapWrench(const Vector6d& wall_O, const Vector6d& feedback_O, double max_force_n,
                        double max_torque_nm) noexcept {
   CappedWrench c;
-  c.displayed.head<3>() = Capped(wall_O.head<3>() + feedback_O.head<3>(), max_force_n);
-  c.displayed.tail<3>() = Capped(wall_O.tail<3>() + feedback_O.tail<3>(), max_torque_nm);
-  c.feedback.head<3>() = c.displayed.head<3>() - Capped(wall_O.head<3>(), max_force_n);
-  c.feedback.tail<3>() = c.displayed.tail<3>() - Capped(wall_O.tail<3>(), max_torque_nm);
+  c.displayed.head<3>() = CapNorm(wall_O.head<3>() + feedback_O.head<3>(), max_force_n);
+  c.displayed.tail<3>() = CapNorm(wall_O.tail<3>() + feedback_O.tail<3>(), max_torque_nm);
+  c.feedback.head<3>() = c.displayed.head<3>() - CapNorm(wall_O.head<3>(), max_force_n);
+  c.feedback.tail<3>() = c.displayed.tail<3>() - CapNorm(wall_O.tail<3>(), max_torque_nm);
   return c;
 }
 

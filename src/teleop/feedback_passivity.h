@@ -48,6 +48,9 @@ struct FeedbackPassivityConfig {
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
+// v scaled down to norm `max` if longer (the direction kept), as HapticDevice limits a force or a torque.
+Eigen::Vector3d CapNorm(const Eigen::Vector3d& v, double max) noexcept;
+
 // The displayed wall + feedback wrench within the caps (the direction kept, as HapticDevice does), and the part of
 // it that is the feedback: Capped(wall + feedback) − Capped(wall).
 struct CappedWrench {

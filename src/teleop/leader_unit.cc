@@ -48,12 +48,6 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& A, const Eigen::Isometry3
   return X;
 }
 
-// The wrench the device displays after its limits (what HapticDevice::Write sends), for the record.
-Eigen::Vector3d Limited(const Eigen::Vector3d& v, double max) noexcept {
-  const double n = v.norm();
-  return n > max ? Eigen::Vector3d(v * (max / n)) : v;
-}
-
 }  // namespace
 
 LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfig& transfer,
@@ -331,9 +325,9 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   feedback_shown_ = shown;
   const haptics::DeviceWriteReport written = device_.Write(command);
   const Eigen::Vector3d f_sent =
-      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.f_O, device_.limits().max_force_n);
+      written.zeroed ? Eigen::Vector3d::Zero() : CapNorm(command.f_O, device_.limits().max_force_n);
   const Eigen::Vector3d tau_sent =
-      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.tau_O, device_.limits().max_torque_nm);
+      written.zeroed ? Eigen::Vector3d::Zero() : CapNorm(command.tau_O, device_.limits().max_torque_nm);
   counters_.max_force_n = std::max(counters_.max_force_n, f_sent.norm());
   counters_.max_torque_nm = std::max(counters_.max_torque_nm, tau_sent.norm());
   if (written.zeroed) feedback_shown.setZero();
