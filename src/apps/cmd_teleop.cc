@@ -21,11 +21,11 @@
 #include "src/core/child_process.h"
 #include "src/core/files.h"
 #include "src/core/rt/clock.h"
-#include "src/teleop/bilateral_harness.h"
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
 #include "src/link/estop_sender.h"
 #include "src/link/two_process_session.h"
+#include "src/teleop/bilateral_harness.h"
 
 namespace robossis::apps {
 
@@ -291,10 +291,6 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
     else std::cout << "replay: " << r->log << " → " << r->out << "\n";
   });
 }
-
-}  // namespace
-
-namespace {
 
 void RegisterBilateralMatrix(CLI::App& app) {
   struct Options {
