@@ -79,24 +79,30 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
     if (power * dt > allowed) {
       active_ = true;
       // The damper, linear part first, then angular, each capped; alpha·|v|²·dt removes the excess energy.
-      Vector6d fb = feedback_O;
+      Vector6d damper = Vector6d::Zero();
       double excess = power * dt - allowed;
       const double v2 = twist_O.head<3>().squaredNorm();
       if (v2 > 0 && excess > 0) {
         const double alpha = std::min(excess / (v2 * dt), config_.max_damping_n_s_per_m);
-        fb.head<3>() -= alpha * twist_O.head<3>();
+        damper.head<3>() = alpha * twist_O.head<3>();
         excess -= alpha * v2 * dt;
         damping_ = alpha;
       }
       const double w2 = twist_O.tail<3>().squaredNorm();
       if (w2 > 0 && excess > 0) {
         const double beta = std::min(excess / (w2 * dt), config_.max_damping_nm_s_per_rad);
-        fb.tail<3>() -= beta * twist_O.tail<3>();
+        damper.tail<3>() = beta * twist_O.tail<3>();
+        excess -= beta * w2 * dt;
       }
-      c = CapWrench(wall_O, fb, max_force_n, max_torque_nm);
+      // Beyond the dampers' caps, the load itself is scaled down just enough (lambda in [0, 1]): the force shrinks
+      // continuously where the cap binds instead of dropping to zero, which would chatter.
+      double lambda = 1;
+      const double p0 = feedback_O.dot(twist_O);
+      if (excess > 0 && p0 > 0) lambda = std::clamp((allowed / dt + damper.dot(twist_O)) / p0, 0.0, 1.0);
+      c = CapWrench(wall_O, lambda * feedback_O - damper, max_force_n, max_torque_nm);
       power = c.feedback.dot(twist_O);
       if (power * dt > allowed) {
-        // The capped damper is not enough (or the caps turned it): no feedback this sample.
+        // The caps turned it: no feedback this sample.
         c = CapWrench(wall_O, Vector6d::Zero(), max_force_n, max_torque_nm);
         power = 0;
       }

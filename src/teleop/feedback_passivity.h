@@ -22,8 +22,8 @@
 //
 // Controller: an impedance-causality passivity controller, a variable damper f -= alpha·v (Ryu et al. 2004), with
 // alpha chosen to bring the output energy back to the budget in that sample; alpha is capped
-// (max_damping_*: a large damper at a near-zero velocity is what makes TDPA chatter); beyond the cap the feedback
-// is cut for the sample (it then gives no energy at all), so the bound holds at every sample.
+// (max_damping_*: a large damper at a near-zero velocity is what makes TDPA chatter); beyond the cap the load itself
+// is scaled down just enough for the sample (cut where the caps would turn it), so the bound holds at every sample.
 //
 // Real time: Apply() is noexcept, allocation-free.
 
