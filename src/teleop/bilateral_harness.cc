@@ -31,8 +31,8 @@ constexpr double kDeviceMassKg = 0.2;
 constexpr double kDeviceDampingNSPerM = 0.5;
 // [assumed] The operator holds still this long before the release or the let-go, so that the rest is judged.
 constexpr double kStillBeforeEventS = 5;
-constexpr double kRestSpeedMS = 0.001;   // the "at rest": below 1 mm/s
-constexpr double kHighFrequencyHz = 25;  // the chatter band
+constexpr double kRestSpeedMS = 0.001;   // [assumed] "at rest": below 1 mm/s
+constexpr double kHighFrequencyHz = 25;  // [assumed] the chatter band: above 25 Hz
 
 // A packet in flight, latest-value semantics: one arriving after a newer one is dropped.
 template <typename T>
