@@ -70,7 +70,7 @@ struct HarnessResult {
   double drift_mm = 0;                // |follower − hand (delay removed)| over the last second, mean
   double drift_growth_mm = 0;         // that, minus the same over the first second after 5 s
   double force_hf_share = 0;          // share of the displayed force's power above 25 Hz
-  double rest_after_event_s = -1;     // kRelease/kLetGo: time until the hand stays below 1 mm/s (-1: never)
+  double rest_after_event_s = -1;     // kRelease/kLetGo: time until the hand stays below 1 mm/s (-1: never, or no event)
   double active_fraction = 0;         // samples the controller acted in
   double max_force_n = 0;
 };
