@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -24,6 +25,7 @@
 #include "src/link/dds_leader_link.h"
 #include "src/link/estop_sender.h"
 #include "src/link/two_process_session.h"
+#include "src/teleop/bilateral_harness.h"
 
 namespace robossis::apps {
 
@@ -73,6 +75,7 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
     std::string clock = "simulated";
     std::string link = "inprocess";
     link::LinkOptions link_options;
+    double link_delay_ms = 0;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -88,7 +91,15 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       ->check(CLI::IsMember({"inprocess", "dds"}))
       ->capture_default_str();
   AddLinkOptions(*cmd, o->link_options);
+  cmd->add_option("--link-delay-ms", o->link_delay_ms,
+                  "--link inprocess: one-way delay of both directions, ms (set-points and the follower's status)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
   cmd->callback([o, clock_option, &context] {
+    if (o->link == "dds" && o->link_delay_ms > 0) {
+      throw std::invalid_argument("--link-delay-ms: delays the in-process link only; over --link dds the fault "
+                                  "relay (src/link/fault_relay.h) delays and drops packets");
+    }
     if (o->link == "dds" && clock_option->count() > 0 && o->clock != "real") {
       throw std::invalid_argument("--clock " + o->clock + ": --link dds runs two processes on wall-clock time; "
                                   "use --clock real or leave --clock out");
@@ -105,7 +116,11 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       r.leader_args = {"--device", o->device, "--method", inputs.request.method, "--rate-hz",
                        std::to_string(o->rate_hz)};
       if (!o->atlas.empty()) r.leader_args.insert(r.leader_args.end(), {"--atlas", o->atlas});
+      const auto feedback = FeedbackArgs(*o);
+      r.leader_args.insert(r.leader_args.end(), feedback.begin(), feedback.end());
       r.follower_args = {"--follower", o->follower};
+      const auto load = SimLoadArgs(*o);
+      r.follower_args.insert(r.follower_args.end(), load.begin(), load.end());
       // The follower process decides its start commands from the same flags.
       if (o->home) r.follower_args.push_back("--home");
       if (o->enable) r.follower_args.push_back("--enable");
@@ -132,6 +147,7 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       return;
     }
     TeleopInputs inputs(context, *o, o->clock == "real");
+    inputs.request.link_delay_s = 1e-3 * o->link_delay_ms;
     inputs.LoadAtlasIfNeeded(*o, out.staging());
     inputs.request.csv_dir = out.staging();
     const teleop::TeleopOutputs outputs = teleop::RunTeleop(inputs.request, inputs.setup, out.Path("session.rlog"));
@@ -276,6 +292,53 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
   });
 }
 
+void RegisterBilateralMatrix(CLI::App& app) {
+  struct Options {
+    double duration_s = 60;
+    std::vector<double> delays_ms{0, 10, 25, 50, 100, 200};
+    double loss = 0.05;
+    bool json = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "bilateral-matrix",
+      "The feedback port's passivity on a simulated clock: every scenario (free, wall, spring, load517, release, "
+      "let_go) x one-way delay x scheme (off, classic, network), one axis, 5 % loss and jitter "
+      "(src/teleop/bilateral_harness.h). Example: robossis bilateral-matrix --duration-s 60 --json");
+  cmd->add_option("--duration-s", o->duration_s, "Simulated time per run")->check(CLI::Range(10.0, 600.0))
+      ->capture_default_str();
+  cmd->add_option("--delays-ms", o->delays_ms, "One-way delays")->check(CLI::Range(0.0, 1000.0))->delimiter(',');
+  cmd->add_option("--loss", o->loss, "Packet loss per direction (0-0.5)")->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print the rows as JSON");
+  cmd->callback([o] {
+    teleop::HarnessParams base;
+    base.duration_s = o->duration_s;
+    base.loss = o->loss;
+    std::vector<double> delays_s;
+    for (double d : o->delays_ms) delays_s.push_back(1e-3 * d);
+    const auto results = teleop::RunHarnessMatrix(
+        base, delays_s,
+        {teleop::FeedbackPassivityScheme::kOff, teleop::FeedbackPassivityScheme::kClassic,
+         teleop::FeedbackPassivityScheme::kNetwork});
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const auto& r : results) rows.push_back(teleop::ToJson(r));
+    if (o->json) {
+      PrintJson(rows);
+      return;
+    }
+    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s\n", "scenario", "delay", "scheme", "E_fb_J",
+                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s");
+    for (const auto& r : results) {
+      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f\n",
+                  teleop::ToString(r.params.scenario), 1e3 * r.params.one_way_delay_s,
+                  teleop::ToString(r.params.scheme), r.feedback_energy_j, r.max_feedback_energy_j, r.min_observer_j,
+                  r.dissipated_share, r.force_error_n_rms, r.position_error_mm_rms, r.drift_mm, r.force_hf_share,
+                  r.rest_after_event_s);
+    }
+  });
+}
+
 }  // namespace
 
 void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
@@ -284,6 +347,7 @@ void RegisterTeleopCommands(CLI::App& app, const AppContext& context) {
   RegisterFollower(app, context);
   RegisterEStop(app);
   RegisterReplay(app, context);
+  RegisterBilateralMatrix(app);
 }
 
 }  // namespace robossis::apps

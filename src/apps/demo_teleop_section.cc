@@ -1,6 +1,7 @@
 // Demo report, section 8: teleoperation on one machine. The project's fast hand trajectory (data/teleop/) drives the
 // simulated sigma.7 through the walls (proxy-safe) into the Bullet follower, both units on their own loops in real
-// time, every tick in a session log.
+// time, every tick in a session log; then the follower's load at the hand (bilateral feedback), with and without
+// delay, beside the walls alone.
 
 #include <stdexcept>
 #include <string>
@@ -10,6 +11,53 @@
 #include "src/teleop/teleop_session.h"
 
 namespace robossis::apps {
+
+namespace {
+
+// The load felt at the hand: the simulated sigma.7's loop hand into the Bullet follower with the paper's muscle
+// traction (517 N, 74 N·m), simulated clock, 3 s per run (about a second of wall time each): the walls alone, the
+// load at no delay, the load behind a 100 ms one-way delay.
+void WriteBilateralPart(DemoContext& demo, const teleop::TeleopSetup& setup) {
+  demo.Progress("teleop: the follower's load at the hand (bilateral feedback, 0 and 100 ms delay)");
+  struct Run {
+    const char* name;
+    const char* feedback;
+    double delay_ms;
+  };
+  demo.report << "### The follower's load at the hand (bilateral feedback)\n\n"
+              << "`robossis teleop --device sim --follower sim --clock simulated --duration-s 3 --max-speed-mm-s 100 "
+                 "--max-angular-speed-deg-s 20 --sim-load-n 517 --sim-load-nm 74 --feedback F --link-delay-ms D`: the "
+                 "simulated hand's loop into the Bullet follower pulled by the paper's muscle traction; the load "
+                 "shown at gain 0.025 through the classic passivity controller (README, \"Bilateral feedback\").\n\n"
+              << "| run | max load force on the hand (N) | max force on the hand (N) | port energy, end / max (J) | "
+                 "load error rms (N) | controller active | drift (mm) |\n|---|---|---|---|---|---|---|\n";
+  for (const Run& run : {Run{"walls alone", "walls", 0}, Run{"bilateral, no delay", "bilateral", 0},
+                         Run{"bilateral, 100 ms each way", "bilateral", 100}}) {
+    teleop::TeleopRequest request;
+    request.device = "sim";
+    request.method = "proxy-safe";
+    request.follower = "sim";
+    request.duration_s = 3;
+    request.feedback = run.feedback;
+    request.link_delay_s = 1e-3 * run.delay_ms;
+    request.sim_load_n = 517;
+    request.sim_load_nm = 74;
+    const std::string name = std::string("teleop/bilateral_") + run.feedback + "_" +
+                             std::to_string(static_cast<int>(run.delay_ms)) + "ms";
+    const teleop::TeleopOutputs o = teleop::RunTeleop(request, setup, demo.out.Path(name + ".rlog"));
+    demo.out.Write(name + ".json", o.summary.dump(2) + "\n");
+    const auto& s = o.summary;
+    auto num = [&](const char* key) { return FormatNumber(s[key].get<double>(), "%.3g"); };
+    demo.report << "| " << run.name << " | " << num("max_feedback_force_n") << " | " << num("max_force_n") << " | "
+                << num("feedback_energy_j") << " / " << num("feedback_energy_max_j") << " | "
+                << num("feedback_force_error_n_rms") << " | "
+                << FormatFixed(100 * s["tdpa_active_fraction"].get<double>(), 1) << " % | " << num("position_drift_mm")
+                << " |\n";
+  }
+  demo.report << "\n";
+}
+
+}  // namespace
 
 void WriteTeleopSection(DemoContext& demo) {
   demo.Progress("teleop: fast hand -> leader (proxy-safe walls) -> Bullet follower, real time");
@@ -71,6 +119,7 @@ void WriteTeleopSection(DemoContext& demo) {
   for (const std::string& w : o.warnings) demo.report << "Warning: " << w << "\n\n";
   demo.Figure("teleop_session.py", {"--dir", demo.out.Path("teleop").string()}, "teleop/teleop.png",
               "Hand vs follower, the wrench on the hand, the follower's tightest joint-limit margin, the loop periods");
+  WriteBilateralPart(demo, setup);
 }
 
 }  // namespace robossis::apps

@@ -25,6 +25,15 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
     cmd.add_option("--rate-hz", o.rate_hz, "Leader loop rate: 1000 or 4000 (a multiple of the 1 kHz transfer)")
         ->capture_default_str();
     cmd.add_option("--atlas", o.atlas, "Boundary atlas folder for mesh/mesh-live (default: build the coarse one)");
+    cmd.add_option("--feedback", o.feedback,
+                   "walls (the walls alone) | bilateral (the walls and the follower's load, passive under delay; "
+                   "default: leader.yaml feedback.mode)");
+    cmd.add_option("--feedback-gain", o.feedback_gain,
+                   "Share of the follower's wrench felt at the hand, 0-1 (default: leader.yaml feedback.gain)")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd.add_option("--feedback-passivity", o.feedback_passivity,
+                   "The load's passivity controller: off | classic (one-port) | network (delay-aware; default: "
+                   "leader.yaml feedback.passivity)");
   }
   if (units != TeleopUnits::kLeader) {
     cmd.add_option("--follower", o.follower,
@@ -39,6 +48,12 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
     CLI::Option* enable = cmd.add_flag(
         "--enable", o.enable, "Enable at start, after --home (default for sim and recorder; refused while unhomed)");
     cmd.add_flag("--no-enable", o.no_enable, "Start disabled (default for --follower hal)")->excludes(enable);
+    cmd.add_option("--sim-load-n", o.sim_load_n,
+                   "--follower sim: the muscles' traction along the femur axis at the home pose, N (paper: 517)")
+        ->check(CLI::Range(0.0, 1000.0));
+    cmd.add_option("--sim-load-nm", o.sim_load_nm,
+                   "--follower sim: the muscles' torque about the femur axis at the home pose, N·m (paper: 74)")
+        ->check(CLI::Range(0.0, 100.0));
   }
   cmd.add_option("--duration-s", o.duration_s, "Run time (a replay ends 0.5 s after its last sample)")
       ->capture_default_str();
@@ -74,6 +89,28 @@ TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o,
   request.rate_hz = o.rate_hz;
   request.duration_s = o.duration_s;
   request.real_clock = real_clock;
+  if (o.feedback) teleop::ParseFeedbackMode("--feedback", *o.feedback);  // checked before any work
+  request.feedback = o.feedback.value_or("");
+  request.feedback_gain = o.feedback_gain.value_or(-1.0);
+  if (o.feedback_passivity) teleop::ParseFeedbackPassivityScheme("--feedback-passivity", *o.feedback_passivity);
+  request.feedback_passivity = o.feedback_passivity.value_or("");
+  if ((o.sim_load_n > 0 || o.sim_load_nm > 0) && o.follower != "sim") {
+    throw std::invalid_argument("--sim-load-n/--sim-load-nm: only the Bullet follower (--follower sim) has muscles");
+  }
+  request.sim_load_n = o.sim_load_n;
+  request.sim_load_nm = o.sim_load_nm;
+}
+
+std::vector<std::string> FeedbackArgs(const TeleopCliOptions& o) {
+  std::vector<std::string> args;
+  if (o.feedback) args.insert(args.end(), {"--feedback", *o.feedback});
+  if (o.feedback_gain) args.insert(args.end(), {"--feedback-gain", std::to_string(*o.feedback_gain)});
+  if (o.feedback_passivity) args.insert(args.end(), {"--feedback-passivity", *o.feedback_passivity});
+  return args;
+}
+
+std::vector<std::string> SimLoadArgs(const TeleopCliOptions& o) {
+  return {"--sim-load-n", std::to_string(o.sim_load_n), "--sim-load-nm", std::to_string(o.sim_load_nm)};
 }
 
 void TeleopInputs::LoadAtlasIfNeeded(const TeleopCliOptions& o, const std::filesystem::path& scratch) {

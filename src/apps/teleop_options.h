@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "src/apps/app_context.h"
 #include "src/core/files.h"
@@ -28,7 +29,18 @@ struct TeleopCliOptions {
   bool home = false;
   bool enable = false;
   bool no_enable = false;
+  // Bilateral feedback (leader): walls | bilateral, and its gain (leader.yaml `feedback` unless given).
+  std::optional<std::string> feedback;
+  std::optional<double> feedback_gain;
+  std::optional<std::string> feedback_passivity;
+  // The Bullet follower's muscle traction (N along the femur axis, N·m about it).
+  double sim_load_n = 0;
+  double sim_load_nm = 0;
 };
+
+// The leader's and the follower's bilateral options as arguments for their own processes (`teleop --link dds`).
+std::vector<std::string> FeedbackArgs(const TeleopCliOptions& options);
+std::vector<std::string> SimLoadArgs(const TeleopCliOptions& options);
 
 // Which unit's options a command takes.
 enum class TeleopUnits { kBoth, kLeader, kFollower };

@@ -158,6 +158,10 @@ void ToOperatingState(const teleop::FollowerStatusMessage& m, std::int64_t heade
   w.max_angular_accel_rad_s2 = m.limits.max_angular_accel_rad_s2;
   w.max_setpoint_age_s = m.limits.max_age_s;
   w.model_fingerprint = m.limits.model_fingerprint;
+  for (int i = 0; i < 6; ++i) w.wrench[i] = m.wrench_F[i];
+  w.wrench_source = static_cast<std::uint8_t>(m.wrench_source);
+  w.port_energy_in_j = m.port_energy_in_j;
+  w.port_energy_out_j = m.port_energy_out_j;
 }
 
 void FromMeasuredCp(const geometry_msgs_msg_dds__PoseStamped_& w, teleop::FollowerStatusMessage& m) noexcept {
@@ -183,6 +187,12 @@ void FromOperatingState(const robossis_msgs_msg_dds__OperatingState_& w, teleop:
   m.limits.max_angular_accel_rad_s2 = w.max_angular_accel_rad_s2;
   m.limits.max_age_s = w.max_setpoint_age_s;
   m.limits.model_fingerprint = w.model_fingerprint;
+  for (int i = 0; i < 6; ++i) m.wrench_F[i] = w.wrench[i];
+  // An unknown source is no wrench: the leader shows none.
+  m.wrench_source = w.wrench_source <= static_cast<std::uint8_t>(teleop::WrenchSource::kForceSensor)
+                        ? static_cast<teleop::WrenchSource>(w.wrench_source) : teleop::WrenchSource::kNone;
+  m.port_energy_in_j = w.port_energy_in_j;
+  m.port_energy_out_j = w.port_energy_out_j;
 }
 
 }  // namespace robossis::link

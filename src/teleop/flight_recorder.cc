@@ -27,6 +27,10 @@ StreamSpec LeaderStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, leader_state, ""),    ROBOSSIS_LOG_FIELD(R, follower_state, ""),
       ROBOSSIS_LOG_FIELD(R, flags, ""),           ROBOSSIS_LOG_FIELD(R, sent_this_tick, ""),
       ROBOSSIS_LOG_FIELD(R, stopped_at_boundary, ""), ROBOSSIS_LOG_FIELD(R, force_zeroed, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_wrench_F, "N|N.m"), ROBOSSIS_LOG_FIELD(R, feedback_wanted_O, "N|N.m"),
+      ROBOSSIS_LOG_FIELD(R, feedback_O, "N|N.m"),        ROBOSSIS_LOG_FIELD(R, feedback_shown, ""),
+      ROBOSSIS_LOG_FIELD(R, feedback_energy_in_j, "J"),  ROBOSSIS_LOG_FIELD(R, feedback_energy_out_j, "J"),
+      ROBOSSIS_LOG_FIELD(R, passivity_observed_j, "J"),  ROBOSSIS_LOG_FIELD(R, passivity_active, ""),
   };
   return s;
 }
@@ -53,6 +57,8 @@ StreamSpec FollowerStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, actuation_status, ""),     ROBOSSIS_LOG_FIELD(R, holding, ""),
       ROBOSSIS_LOG_FIELD(R, meas_feasible, ""),        ROBOSSIS_LOG_FIELD(R, setpoint_stamp_ns, "ns"),
       ROBOSSIS_LOG_FIELD(R, command_time_s, "s"),
+      ROBOSSIS_LOG_FIELD(R, wrench_F, "N|N.m"),        ROBOSSIS_LOG_FIELD(R, port_energy_in_j, "J"),
+      ROBOSSIS_LOG_FIELD(R, port_energy_out_j, "J"),
   };
   return s;
 }

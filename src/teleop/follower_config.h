@@ -10,6 +10,7 @@
 #include "haptics/transfer/transfer_config.h"
 #include "robot/feasible_motion.h"
 #include "src/teleop/setpoint_validator.h"
+#include "src/teleop/wrench_estimate.h"
 
 namespace robossis {
 class ConfigNode;
@@ -35,6 +36,9 @@ struct FollowerConfig {
   // ModelFingerprint of the rsr.yaml the model was loaded from (TeleopSetup::Load), published with the status so
   // that a leader on another machine can tell it checks against another workspace. 0: not known.
   std::uint64_t model_fingerprint = 0;
+  // The weight the wrench estimate removes: the back end's (the session sets it from the simulation's ring and
+  // fragment; zero for back ends that do not say).
+  WrenchEstimateConfig wrench;
 
   // Throws std::invalid_argument naming the field.
   void Validate() const;

@@ -213,6 +213,8 @@ void FollowerUnit::Tick() noexcept {
     actuator_.Resync(now, measured.q);
   }
 
+  ObserveWrench(measured, dt);
+
   // 6. Status (decimated) and the record.
   if (now >= next_status_s_) {
     PublishStatus(now, measured);
@@ -231,6 +233,9 @@ void FollowerUnit::Tick() noexcept {
   StorePose(measured.X_FM, rec.meas_p_FM, rec.meas_q_FM);
   StoreVector<6>(measured.q, rec.meas_joints);
   StoreVector<6>(measured.effort, rec.effort);
+  StoreVector<6>(wrench_F_, rec.wrench_F);
+  rec.port_energy_in_j = port_energy_in_j_;
+  rec.port_energy_out_j = port_energy_out_j_;
   rec.meas_min_margin = ik.tightest().margin;
   rec.meas_feasible = ik.feasible;
   rec.state = machine_.state();
@@ -243,6 +248,21 @@ void FollowerUnit::Tick() noexcept {
     ++counters_.records_dropped;
     if (recorder_failed_ != nullptr) recorder_failed_->store(true, std::memory_order_relaxed);  // a lost record
   }
+}
+
+void FollowerUnit::ObserveWrench(const robot::RsrFollowerState& measured, double dt) noexcept {
+  // Only while following: enabled and not holding (a hold, the clutch, the watchdog): the leader then shows none.
+  if (!machine_.following() || measured.faulted()) {
+    wrench_F_.setZero();
+    wrench_source_ = WrenchSource::kNone;
+    return;
+  }
+  wrench_F_ = EstimateExternalWrench(model_, measured.X_FM, measured.effort, config_.wrench);
+  wrench_source_ = WrenchSource::kDriveEfforts;
+  // The port's power at the commanded twist (the drives are position controlled: the ring moves as commanded).
+  // W·v > 0: the environment pushes the ring along its motion, energy enters the network here.
+  const double power = wrench_F_.dot(twist_cmd_);
+  (power > 0 ? port_energy_in_j_ : port_energy_out_j_) += std::abs(power) * dt;
 }
 
 void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept {
@@ -261,6 +281,10 @@ void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& me
   s.watchdog_holds = counters_.watchdog_holds;
   s.last_sequence = setpoint_sequence_;
   s.limits = limits_;
+  StoreVector<6>(wrench_F_, s.wrench_F);
+  s.wrench_source = wrench_source_;
+  s.port_energy_in_j = port_energy_in_j_;
+  s.port_energy_out_j = port_energy_out_j_;
   link_.PublishStatus(s);
   ++counters_.status_published;
 }

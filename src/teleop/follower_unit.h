@@ -63,6 +63,11 @@ struct FollowerTickRecord {
   std::array<double, 4> meas_q_FM{1, 0, 0, 0};
   std::array<double, 6> meas_joints{};
   std::array<double, 6> effort{};
+  // The external wrench on the ring estimated from the efforts (zero while not following), and the follower port's
+  // energies (feedback_passivity.h), as the status carries them.
+  std::array<double, 6> wrench_F{};
+  double port_energy_in_j = 0;
+  double port_energy_out_j = 0;
   double meas_min_margin = 0;  // the measured pose's tightest joint-limit margin (m or rad; < 0 violated)
   // Verdicts.
   OperatingState state = OperatingState::kDisabled;
@@ -124,6 +129,8 @@ class FollowerUnit final : public rt::PeriodicTask {
  private:
   Eigen::Isometry3d WantedPose(double now_s) noexcept;
   void PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept;
+  // The external wrench while following (else none) and the port's energy over dt at the commanded twist.
+  void ObserveWrench(const robot::RsrFollowerState& measured, double dt) noexcept;
 
   const robot::RsrModel& model_;
   FollowerConfig config_;
@@ -161,6 +168,11 @@ class FollowerUnit final : public rt::PeriodicTask {
   bool first_tick_ = true;
   double next_status_s_ = 0;
   std::uint64_t status_sequence_ = 0;
+  // The external wrench (zero while not following) and the port's energies.
+  Vector6d wrench_F_ = Vector6d::Zero();
+  WrenchSource wrench_source_ = WrenchSource::kNone;
+  double port_energy_in_j_ = 0;
+  double port_energy_out_j_ = 0;
 };
 
 }  // namespace robossis::teleop

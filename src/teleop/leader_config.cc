@@ -9,7 +9,28 @@
 
 namespace robossis::teleop {
 
+const char* ToString(FeedbackMode mode) {
+  return mode == FeedbackMode::kBilateral ? "bilateral" : "walls";
+}
+
+FeedbackMode ParseFeedbackMode(const char* where, const std::string& value) {
+  if (value == "walls") return FeedbackMode::kWalls;
+  if (value == "bilateral") return FeedbackMode::kBilateral;
+  throw std::invalid_argument(std::string(where) + " is '" + value + "'; expected walls or bilateral");
+}
+
+void LeaderFeedbackConfig::Validate() const {
+  if (!(std::isfinite(gain) && gain >= 0 && gain <= 1)) {
+    throw std::invalid_argument("feedback.gain: expected 0 <= G <= 1, got " + std::to_string(gain));
+  }
+  if (!(std::isfinite(max_force_n) && max_force_n > 0) || !(std::isfinite(max_torque_nm) && max_torque_nm > 0)) {
+    throw std::invalid_argument("feedback: the force and torque caps must be finite and positive");
+  }
+  passivity.Validate();
+}
+
 void LeaderConfig::Validate() const {
+  feedback.Validate();
   if (!(rate_hz >= 100 && rate_hz <= 10000)) {
     throw std::invalid_argument("rate_hz: expected 100–10000 Hz, got " + std::to_string(rate_hz));
   }
@@ -53,6 +74,12 @@ LeaderConfig LeaderConfig::FromConfig(const ConfigNode& root) {
   c.sim_script.sim_radius_m = MmToM(sim.NumberInRange("radius_mm", 0.0, 200.0));
   c.sim_script.sim_frequency_hz = sim.PositiveNumber("frequency_hz");
   c.sim_script.sim_yaw_amplitude_rad = DegToRad(sim.NumberInRange("yaw_amplitude_deg", 0.0, 90.0));
+  const ConfigNode feedback = root.Child("feedback");
+  c.feedback.mode = ParseFeedbackMode("feedback.mode", feedback.String("mode"));
+  c.feedback.gain = feedback.NumberInRange("gain", 0.0, 1.0);
+  c.feedback.passivity.scheme = ParseFeedbackPassivityScheme("feedback.passivity", feedback.String("passivity"));
+  c.feedback.passivity.max_damping_n_s_per_m = feedback.NumberInRange("max_damping_n_s_per_m", 0.0, 1000.0);
+  c.feedback.passivity.max_damping_nm_s_per_rad = feedback.NumberInRange("max_damping_nm_s_per_rad", 0.0, 10.0);
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();

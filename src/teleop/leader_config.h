@@ -2,17 +2,40 @@
 // Configuration of the leader unit: data/config/leader.yaml. Loaded and validated once; the loop only reads it.
 
 #include <cstddef>
+#include <cstdint>
+#include <string>
 #include <filesystem>
 
 #include "haptics/device/device_factory.h"
 #include "haptics/device/haptic_device.h"
 #include "robot/feasible_motion.h"
+#include "src/teleop/feedback_passivity.h"
 
 namespace robossis {
 class ConfigNode;
 }  // namespace robossis
 
 namespace robossis::teleop {
+
+// What the hand feels: the walls alone (the paper), or the walls and the follower's load (bilateral).
+enum class FeedbackMode : std::uint8_t { kWalls, kBilateral };
+const char* ToString(FeedbackMode mode);
+// "walls" or "bilateral"; throws std::invalid_argument naming `where` and the value.
+FeedbackMode ParseFeedbackMode(const char* where, const std::string& value);
+
+// The follower's load on the hand (leader.yaml `feedback`).
+struct LeaderFeedbackConfig {
+  FeedbackMode mode = FeedbackMode::kWalls;
+  // [assumed] The share of the follower's wrench the hand feels (after the transfer's scaling, inverted): 0.025
+  // brings the paper's 517 N traction to 12.9 N, within the 15 N cap.
+  double gain = 0.025;
+  // The displayed wall + feedback wrench's caps: the rendering's (haptics.yaml `limits`, copied by
+  // TeleopSetup::Load), below the device's own.
+  double max_force_n = 15.0;
+  double max_torque_nm = 0.3;
+  FeedbackPassivityConfig passivity;
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
 
 struct LeaderConfig {
   double rate_hz = 1000;                     // the haptic loop
@@ -29,6 +52,7 @@ struct LeaderConfig {
   double follower_status_timeout_s = 0.1;
   std::size_t record_queue_capacity = 16384; // leader records waiting for the flight recorder
   haptics::DeviceScriptOptions sim_script;   // the `sim` device's hand
+  LeaderFeedbackConfig feedback;
 
   // Throws std::invalid_argument naming the field.
   void Validate() const;

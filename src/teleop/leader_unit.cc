@@ -48,12 +48,6 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& A, const Eigen::Isometry3
   return X;
 }
 
-// The wrench the device displays after its limits (what HapticDevice::Write sends), for the record.
-Eigen::Vector3d Limited(const Eigen::Vector3d& v, double max) noexcept {
-  const double n = v.norm();
-  return n > max ? Eigen::Vector3d(v * (max / n)) : v;
-}
-
 }  // namespace
 
 LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfig& transfer,
@@ -74,6 +68,7 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       session_id_(session_id),
       X_goal_(X_FM_start),
       X_sent_(OnTheWire(X_FM_start)),
+      passivity_(config.feedback.passivity),
       records_(config.record_queue_capacity) {
   config.Validate();
   follower_limits_.caps = transfer.caps;
@@ -203,6 +198,22 @@ void LeaderUnit::SendSetPoint(std::int64_t sample_ns) noexcept {
   ++counters_.setpoints_sent;
 }
 
+Vector6d LeaderUnit::FeedbackWrench(bool shown) const noexcept {
+  Vector6d w = Vector6d::Zero();
+  if (!shown) return w;
+  Eigen::Vector3d f_F, tau_F;
+  for (int i = 0; i < 3; ++i) {
+    f_F[i] = follower_.wrench_F[i];
+    tau_F[i] = follower_.wrench_F[3 + i];
+  }
+  if (!f_F.allFinite() || !tau_F.allFinite()) return w;  // a corrupt status shows nothing
+  // The transfer's map inverted as energy requires: v_F = s·R_FO·v_O, so f_O = s·R_FOᵀ·f_F keeps f_O·v_O = f_F·v_F.
+  const double g = config_.feedback.gain;
+  w.head<3>() = g * frame_.translation_scale * frame_.WrenchToHc(f_F);
+  w.tail<3>() = g * frame_.rotation_scale * frame_.WrenchToHc(tau_F);
+  return w;
+}
+
 void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   const double now_s = 1e-9 * static_cast<double>(now_ns);
   if (reset_requested_.exchange(false, std::memory_order_acq_rel) && state_ == LeaderState::kDeviceFault) {
@@ -282,13 +293,45 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     command.f_O = out.f_O;
     command.tau_O = out.tau_O;
   }
+  // The follower's load: shown only while it follows (enabled; its wrench says it is not holding) on a fresh status
+  // and this leader tracks. The port's books start over whenever it is shown again.
+  const bool bilateral = config_.feedback.mode == FeedbackMode::kBilateral;
+  const bool shown = bilateral && tracking && follower_heard_ && status_fresh &&
+                     follower_.state == OperatingState::kEnabled && follower_.wrench_source != WrenchSource::kNone;
+  Vector6d feedback_shown = Vector6d::Zero();
+  const Vector6d feedback_wanted = FeedbackWrench(shown);
+  if (bilateral && tracking && s.ok()) {
+    if (shown && !feedback_shown_) {
+      passivity_.Reset();
+      remote_in_base_j_ = follower_.port_energy_in_j;
+    }
+    Vector6d wall, twist;
+    wall << command.f_O, command.tau_O;
+    twist << s.v_O, s.w_O;
+    const double before_in = passivity_.energies().in_j, before_out = passivity_.energies().out_j;
+    const double remote_in = config_.feedback.gain * (follower_.port_energy_in_j - remote_in_base_j_);
+    const CappedWrench c = passivity_.Apply(wall, feedback_wanted, twist, 1.0 / config_.rate_hz,
+                                            config_.feedback.max_force_n, config_.feedback.max_torque_nm,
+                                            std::isfinite(remote_in) ? remote_in : 0.0);
+    command.f_O = c.displayed.head<3>();
+    command.tau_O = c.displayed.tail<3>();
+    feedback_shown = c.feedback;
+    counters_.feedback_energy_in_j += passivity_.energies().in_j - before_in;
+    counters_.feedback_energy_out_j += passivity_.energies().out_j - before_out;
+    counters_.max_feedback_energy_j = std::max(counters_.max_feedback_energy_j,
+                                               counters_.feedback_energy_out_j - counters_.feedback_energy_in_j);
+    if (passivity_.active()) ++counters_.passivity_active_ticks;
+  }
+  feedback_shown_ = shown;
   const haptics::DeviceWriteReport written = device_.Write(command);
   const Eigen::Vector3d f_sent =
-      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.f_O, device_.limits().max_force_n);
+      written.zeroed ? Eigen::Vector3d::Zero() : CapNorm(command.f_O, device_.limits().max_force_n);
   const Eigen::Vector3d tau_sent =
-      written.zeroed ? Eigen::Vector3d::Zero() : Limited(command.tau_O, device_.limits().max_torque_nm);
+      written.zeroed ? Eigen::Vector3d::Zero() : CapNorm(command.tau_O, device_.limits().max_torque_nm);
   counters_.max_force_n = std::max(counters_.max_force_n, f_sent.norm());
   counters_.max_torque_nm = std::max(counters_.max_torque_nm, tau_sent.norm());
+  if (written.zeroed) feedback_shown.setZero();
+  counters_.max_feedback_force_n = std::max(counters_.max_feedback_force_n, feedback_shown.head<3>().norm());
 
   // The feasible set-point, sent at the transfer rate.
   bool stopped = false;
@@ -358,6 +401,16 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   r.sent_this_tick = transfer_tick ? 1 : 0;
   r.stopped_at_boundary = stopped ? 1 : 0;
   r.force_zeroed = written.zeroed ? 1 : 0;
+  r.follower_wrench_F = follower_.wrench_F;
+  for (int i = 0; i < 6; ++i) {
+    r.feedback_wanted_O[i] = feedback_wanted[i];
+    r.feedback_O[i] = feedback_shown[i];
+  }
+  r.feedback_shown = shown ? 1 : 0;
+  r.feedback_energy_in_j = counters_.feedback_energy_in_j;
+  r.feedback_energy_out_j = counters_.feedback_energy_out_j;
+  r.passivity_observed_j = passivity_.observed_j();
+  r.passivity_active = passivity_.active() ? 1 : 0;
   if (!records_.TryPush(r)) ++counters_.records_dropped;
   latest_.Publish(r);
   ++counters_.ticks;

@@ -28,6 +28,13 @@
 // kSetPointDeviceFault and no presence until RequestReset(); the follower leaves its E-stop by its own reset.
 // The end of a replay is not a failure: the leader holds.
 //
+// Bilateral feedback (config.feedback.mode kBilateral): the follower's external wrench, as its newest status carries
+// it, is mapped into the device frame by the transfer's frame map inverted as energy requires (f_O = s·R_FOᵀ·f_F,
+// with s the motion scale: the hand's power is the ring's), scaled by the feedback gain, added to the walls within
+// the caps, and passed through the passivity observer and controller of the feedback port (feedback_passivity.h).
+// It is zero unless the follower follows (enabled, not clutched, not holding: its status says where its wrench came
+// from) on a fresh status while this leader tracks.
+//
 // Real time: Tick() allocates nothing, locks nothing, prints and throws nothing. Records go to the flight recorder
 // through an SpscQueue (a full queue drops and counts), the latest one to a Snapshot for watchers.
 
@@ -45,6 +52,7 @@
 #include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/snapshot.h"
 #include "src/core/rt/spsc_queue.h"
+#include "src/teleop/feedback_passivity.h"
 #include "src/teleop/leader_config.h"
 #include "src/teleop/link.h"
 #include "src/teleop/setpoint_validator.h"
@@ -91,6 +99,16 @@ struct LeaderTickRecord {
   std::uint8_t sent_this_tick = 0;     // a set-point went out this tick
   std::uint8_t stopped_at_boundary = 0;  // the set-point was stopped short of the goal
   std::uint8_t force_zeroed = 0;       // the device write sent zero (no presence, failure, forces off)
+  // Bilateral feedback: the follower's wrench as received (F), the feedback part of the displayed wrench (O, after
+  // the caps and the passivity controller), the port's energies since the start (J) and the observer.
+  std::array<double, 6> follower_wrench_F{};
+  std::array<double, 6> feedback_wanted_O{};  // the follower's load as the gain and the map make it (before caps)
+  std::array<double, 6> feedback_O{};
+  double feedback_energy_in_j = 0;
+  double feedback_energy_out_j = 0;
+  double passivity_observed_j = 0;
+  std::uint8_t passivity_active = 0;   // the controller changed the feedback this tick
+  std::uint8_t feedback_shown = 0;     // the follower's load was shown (bilateral, following, fresh, tracking)
 };
 
 struct LeaderCounters {
@@ -103,6 +121,11 @@ struct LeaderCounters {
   std::uint64_t nonfinite_outputs = 0;    // a non-finite force or set-point was produced (and replaced)
   double max_force_n = 0;                 // largest |f| sent to the device
   double max_torque_nm = 0;
+  double max_feedback_force_n = 0;        // largest |f| of the feedback part displayed
+  std::uint64_t passivity_active_ticks = 0;  // ticks at which the passivity controller changed the feedback
+  double feedback_energy_in_j = 0;        // the feedback port's energies over the whole run (the hand gave; took)
+  double feedback_energy_out_j = 0;
+  double max_feedback_energy_j = 0;       // the largest (out − in) at any tick (<= 0: passive at every sample)
 };
 
 class LeaderUnit final : public rt::PeriodicTask {
@@ -150,6 +173,8 @@ class LeaderUnit final : public rt::PeriodicTask {
   // The next set-point toward the feasible `target` within the follower's caps (updates twist_sent_).
   Eigen::Isometry3d WithinFollowerCaps(const Eigen::Isometry3d& target) noexcept;
   void SendSetPoint(std::int64_t sample_ns) noexcept;
+  // The follower's load in O (gain and frame map applied), or zero when it must not be shown.
+  Vector6d FeedbackWrench(bool shown) const noexcept;
 
   LeaderConfig config_;
   const robot::RsrModel& model_;
@@ -181,6 +206,9 @@ class LeaderUnit final : public rt::PeriodicTask {
   std::int64_t last_status_ns_ = 0;  // when it arrived (this unit's clock)
   bool robot_was_following_ = true;
   std::atomic<std::uint64_t> statuses_received_{0};
+  FeedbackPassivity passivity_;
+  bool feedback_shown_ = false;      // the feedback was shown at the last tick (its books run)
+  double remote_in_base_j_ = 0;      // the follower's input energy when the books started
   LeaderCounters counters_;
   LeaderTickRecord record_;
   rt::SpscQueue<LeaderTickRecord> records_;

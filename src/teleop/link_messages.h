@@ -85,6 +85,13 @@ struct FollowerLimits {
   std::uint64_t model_fingerprint = 0;      // of the workspace/model config (rsr.yaml) its IK checks against
 };
 
+// Where a status's external wrench comes from.
+enum class WrenchSource : std::uint8_t {
+  kNone,          // no wrench: the follower is not following (not enabled, clutched, holding): the leader shows none
+  kDriveEfforts,  // the drives' efforts through the statics (wrench_estimate.h): the simulation's drive forces
+  kForceSensor,   // a force sensor between the ring and the fragment (none is configured yet)
+};
+
 // Follower → leader and watchers, at >= 100 Hz (CRTK `measured_cp`, `measured_js`, `operating_state`).
 struct FollowerStatusMessage {
   std::uint64_t sequence = 0;
@@ -102,6 +109,15 @@ struct FollowerStatusMessage {
   std::uint64_t watchdog_holds = 0;
   std::uint64_t last_sequence = 0;          // sequence of the last accepted set-point
   FollowerLimits limits;
+  // The external wrench on the moving ring, its own weight removed: [force at P (N); moment about P (N·m)] in F
+  // (CRTK `measured_cf`). Zero unless wrench_source says where it came from.
+  std::array<double, 6> wrench_F{};
+  WrenchSource wrench_source = WrenchSource::kNone;
+  // The follower port's energies since the follower started (J), for the leader's passivity observer in its
+  // network form (feedback_passivity.h): energy the environment put into the robot (W·v > 0: it entered the
+  // network) and energy the robot put into the environment.
+  double port_energy_in_j = 0;
+  double port_energy_out_j = 0;
 };
 
 }  // namespace robossis::teleop

@@ -62,6 +62,18 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
   max_force_n_ = std::max(max_force_n_, Norm3(r.f_O));
   max_torque_nm_ = std::max(max_torque_nm_, Norm3(r.tau_O));
   max_hand_speed_m_s_ = std::max(max_hand_speed_m_s_, Norm3(r.v_O));
+  feedback_energy_j_ = r.feedback_energy_out_j - r.feedback_energy_in_j;
+  feedback_in_j_ = r.feedback_energy_in_j;
+  max_feedback_energy_j_ = std::max(max_feedback_energy_j_, feedback_energy_j_);
+  max_feedback_force_n_ = std::max(max_feedback_force_n_, std::hypot(r.feedback_O[0], r.feedback_O[1], r.feedback_O[2]));
+  if (r.feedback_shown) {
+    ++feedback_ticks_;
+    double e2 = 0;
+    for (int i = 0; i < 3; ++i) e2 += (r.feedback_O[i] - r.feedback_wanted_O[i]) * (r.feedback_O[i] - r.feedback_wanted_O[i]);
+    feedback_error_sq_sum_ += e2;
+    if (r.passivity_active) ++passivity_active_ticks_;
+    min_passivity_observed_j_ = std::min(min_passivity_observed_j_, r.passivity_observed_j);
+  }
   if (r.sent_this_tick && r.stopped_at_boundary) ++stopped_at_boundary_;
   if (r.sent_this_tick && t_sent_.size() < kMaxDelaySamples) {
     t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
@@ -94,6 +106,11 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
 }
 
 void SessionSummary::AddFollower(const FollowerTickRecord& r) {
+  // The drift: the newest set-point the follower took (the leader's scaled hand, the link's delay removed) against
+  // its measured pose, as it stands at the end.
+  double drift2 = 0;
+  for (int i = 0; i < 3; ++i) drift2 += (r.setpoint_p_FM[i] - r.meas_p_FM[i]) * (r.setpoint_p_FM[i] - r.meas_p_FM[i]);
+  position_drift_m_ = std::sqrt(drift2);
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
@@ -184,6 +201,20 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["hand_to_setpoint_delay_judged_fraction"] = delay.judged_fraction();  // of the set-points sent
   j["hand_to_setpoint_delay_correlation"] = delay.correlation;  // of the velocities at that lag (the quality)
   j["watchdog_holds"] = end_.watchdog_holds;
+  // Bilateral feedback: the energy the feedback port gave the hand minus what it took (<= 0: passive), its largest
+  // value at any tick, the largest load force shown, the shown force against the follower's load as received
+  // (gain and map applied: the link's delay removed, the caps and the passivity controller left in), the follower's
+  // distance from its newest set-point at the end, and the share of the shown ticks the controller acted in.
+  j["feedback_energy_j"] = feedback_energy_j_;
+  j["feedback_energy_max_j"] = max_feedback_energy_j_;
+  j["feedback_energy_in_j"] = feedback_in_j_;
+  j["max_feedback_force_n"] = max_feedback_force_n_;
+  j["feedback_force_error_n_rms"] =
+      feedback_ticks_ ? std::sqrt(feedback_error_sq_sum_ / static_cast<double>(feedback_ticks_)) : 0.0;
+  j["position_drift_mm"] = MToMm(position_drift_m_);
+  j["tdpa_active_fraction"] =
+      feedback_ticks_ ? static_cast<double>(passivity_active_ticks_) / static_cast<double>(feedback_ticks_) : 0.0;
+  j["passivity_observer_min_j"] = min_passivity_observed_j_;
   j["follower_transitions"] = follower_transitions_;
   j["leader_transitions"] = leader_transitions_;
   j["complete"] = has_end_;  // false: the log ends without its end record (the run did not finish)

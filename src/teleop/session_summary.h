@@ -78,6 +78,15 @@ class SessionSummary {
   std::string leader_csv_;
   int leader_decimation_ = 1;
   double max_hand_speed_m_s_ = 0;
+  // Bilateral feedback (feedback_passivity.h): the port's books, the force shown against the load wanted.
+  double feedback_energy_j_ = 0;         // out − in at the last tick
+  double max_feedback_energy_j_ = 0;     // the largest out − in at any tick
+  double feedback_in_j_ = 0;             // the hand gave, over the run
+  double max_feedback_force_n_ = 0;
+  double feedback_error_sq_sum_ = 0;     // |f shown − f wanted|², over the ticks it was shown
+  std::uint64_t feedback_ticks_ = 0;     // ticks the follower's load was shown
+  std::uint64_t passivity_active_ticks_ = 0;
+  double min_passivity_observed_j_ = 0;
   // Follower.
   std::uint64_t follower_ticks_ = 0;
   double follower_last_s_ = -1;
@@ -93,6 +102,7 @@ class SessionSummary {
   nlohmann::ordered_json follower_transitions_ = nlohmann::ordered_json::array();
   std::string follower_csv_;
   int follower_decimation_ = 1;
+  double position_drift_m_ = 0;  // |newest set-point − measured| at the last follower tick
   SessionEndRecord end_;
   bool has_end_ = false;
 };

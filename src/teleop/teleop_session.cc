@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -30,16 +31,24 @@ std::vector<std::string> KnownFollowers() { return {"sim", "recorder", "hal"}; }
 bool EnablesAtStartByDefault(const std::string& kind) { return kind != "hal"; }
 
 std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
-                                                     double max_duration_s) {
+                                                     double max_duration_s, double load_n, double load_nm) {
   const robot::RsrModel& rsr = *setup.rsr;
   const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
   if (kind == "sim") {
     sim::SimOptions options;
     options.with_bone = false;  // at the home pose the fragments touch: a motion would push one into the other
-    options.with_traction = false;
+    options.with_traction = load_n > 0 || load_nm > 0;
+    // The muscles of the reduction scenario (femur axis along z through the fracture site), pulling with load_n and
+    // twisting with load_nm at the home pose (the fragments aligned there).
+    std::optional<sim::MuscleTraction> traction;
+    if (options.with_traction) {
+      traction.emplace(setup.sim.traction, Eigen::Vector3d::UnitZ(),
+                       Eigen::Vector3d(0, 0, setup.sim.bone.fracture_site_z_m), home);
+      traction->Calibrate(home, home.linear(), load_n, load_nm);
+    }
     // The simulated robot steps on a loop of its own (sim::SimulatedPlant), not inside the follower's tick.
-    return std::make_unique<sim::SimulatedPlant>(
-        std::make_unique<sim::RsrSimulation>(rsr, setup.sim, nullptr, nullptr, home, options));
+    return std::make_unique<sim::SimulatedPlant>(std::make_unique<sim::RsrSimulation>(
+        rsr, setup.sim, nullptr, traction ? &*traction : nullptr, home, options));
   }
   if (kind == "hal") return drivers::MakeHalFollower(rsr, setup.config_dir);
   if (kind == "recorder") {
@@ -62,6 +71,8 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.actuation = actuation::ActuationConfig::FromYaml(config / "actuation.yaml", s.transfer.rates.actuation_rate_hz);
   s.follower = FollowerConfig::FromYaml(config / "follower.yaml", s.transfer.caps);
   s.leader = LeaderConfig::FromYaml(config / "leader.yaml");
+  s.leader.feedback.max_force_n = s.haptics.limits.max_force_n;  // the walls' caps bound walls + load (haptics.yaml)
+  s.leader.feedback.max_torque_nm = s.haptics.limits.max_torque_nm;
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
   s.leader.max_linear_accel_m_s2 = s.follower.setpoint.max_linear_accel_m_s2;  // the follower's caps (follower.yaml)
   s.leader.max_angular_accel_rad_s2 = s.follower.setpoint.max_angular_accel_rad_s2;
@@ -113,6 +124,11 @@ struct LeaderSide {
 LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup, LeaderLink& link) {
   LeaderConfig config = setup.leader;
   config.rate_hz = request.rate_hz;
+  if (!request.feedback.empty()) config.feedback.mode = ParseFeedbackMode("--feedback", request.feedback);
+  if (request.feedback_gain >= 0) config.feedback.gain = request.feedback_gain;
+  if (!request.feedback_passivity.empty()) {
+    config.feedback.passivity.scheme = ParseFeedbackPassivityScheme("--feedback-passivity", request.feedback_passivity);
+  }
   try {
     config.Validate();
   } catch (const std::invalid_argument& e) {
@@ -145,8 +161,18 @@ struct FollowerSide {
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
                               const rt::Clock& clock) {
   FollowerSide side;
-  side.back_end = MakeFollowerBackEnd(request.follower, setup, request.duration_s);
-  side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, setup.follower, *side.back_end, link, clock);
+  side.back_end = MakeFollowerBackEnd(request.follower, setup, request.duration_s, request.sim_load_n,
+                                      request.sim_load_nm);
+  FollowerConfig config = setup.follower;
+  if (request.follower == "sim") {
+    // The simulation's own masses: the ring (no fragment here) and the arms, whose weight the wrench estimate removes.
+    const sim::MassConfig& m = setup.sim.masses;
+    config.wrench.carried_mass_kg = m.moving_ring_kg;
+    config.wrench.gravity_F_mps2 = setup.sim.physics.gravity_F_mps2;
+    config.wrench.remove_arm_weight = true;
+    config.wrench.arm_masses = m;
+  }
+  side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, config, *side.back_end, link, clock);
   return side;
 }
 
@@ -397,7 +423,7 @@ TeleopOutputs RunTeleop(const TeleopRequest& request, const TeleopSetup& setup, 
   rt::SimulatedClock sim_clock;
   rt::MonotonicClock mono_clock;
   const rt::Clock& clock = request.real_clock ? static_cast<const rt::Clock&>(mono_clock) : sim_clock;
-  InProcessLink link(clock);
+  InProcessLink link(clock, 64, request.link_delay_s);
   FollowerSide follower = MakeFollowerSide(request, setup, link, clock);
   LeaderSide leader = MakeLeaderSide(request, setup, link);
   for (const StateCommandMessage& command : StartCommands(request)) link.operator_commands().Send(command);

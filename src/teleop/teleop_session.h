@@ -67,6 +67,16 @@ struct TeleopRequest {
   // Set: leader.csv and follower.csv (of the units run) are written into this folder as the run goes, and
   // TeleopOutputs' CSV strings stay empty, so that memory stays flat however long the run. Empty: returned whole.
   std::filesystem::path csv_dir;
+  // Bilateral feedback (leader.yaml `feedback` unless set): --feedback walls|bilateral, --feedback-gain G.
+  std::string feedback;      // empty: leader.yaml's mode
+  double feedback_gain = -1; // < 0: leader.yaml's gain
+  std::string feedback_passivity;  // --feedback-passivity off|classic|network; empty: leader.yaml's
+  // The in-process link's one-way delay, both directions (--link-delay-ms; `teleop` on one process only).
+  double link_delay_s = 0;
+  // The Bullet follower's muscle traction (--sim-load-n, --sim-load-nm): the reduction scenario's muscles, calibrated
+  // to pull with this load along the femur axis and twist with this torque about it at the home pose.
+  double sim_load_n = 0;
+  double sim_load_nm = 0;
 };
 
 struct TeleopOutputs {
@@ -88,13 +98,13 @@ std::vector<std::string> KnownFollowers();  // sim, recorder, hal
 // HAL drives start unhomed after every start and stay disabled until the operator homes and enables them.
 bool EnablesAtStartByDefault(const std::string& kind);
 
-// The follower back end `kind` names (KnownFollowers()), at the robot's home pose: the Bullet RSR without the bone
+// The follower back end `kind` names (with the muscles' traction load_n, load_nm on the simulation) (KnownFollowers()), at the robot's home pose: the Bullet RSR without the bone
 // fragments, the LinuxCNC HAL drives (hal.yaml in setup.config_dir), or the pulse recorder sized for
 // `max_duration_s` of actuation ticks (at most 4e6 samples). The one factory of `robossis teleop`, `robossis
 // follower` and `robossis panel`. Throws std::invalid_argument for an unknown kind, std::runtime_error when the back
 // end cannot start (HAL not running, a bad hal.yaml).
 std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
-                                                     double max_duration_s);
+                                                     double max_duration_s, double load_n = 0, double load_nm = 0);
 
 // Runs a session, writing its log to `log_file`. Throws std::invalid_argument on a bad request (naming the option),
 // std::runtime_error on a failure to write the log.

@@ -38,6 +38,8 @@
 #include "src/core/config.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/delay_estimate.h"
+#include "src/teleop/feedback_passivity.h"
+#include "src/teleop/wrench_estimate.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
@@ -254,5 +256,39 @@ BENCHMARK(BM_TransferFilterDelay)
     ->Args({50, 3})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
+
+// The bilateral feedback's added cost per tick (budget: 20 µs): the leader's passivity observer and controller on
+// the feedback port (arg 0: observing only; arg 1: the controller acting every tick, its damper capped and the
+// feedback cut, the longest path), and the follower's wrench estimate (the Jacobian of eq. 15, the statics, the
+// arms' weight by virtual work), which runs in its 10 kHz tick.
+void BM_FeedbackPassivityTick(benchmark::State& state) {
+  teleop::FeedbackPassivityConfig config;
+  config.scheme = state.range(0) == 0 ? teleop::FeedbackPassivityScheme::kOff : teleop::FeedbackPassivityScheme::kNetwork;
+  teleop::FeedbackPassivity port(config);
+  Vector6d wall = Vector6d::Zero(), feedback, twist;
+  feedback << 8, -3, 5, 0.05, 0.02, -0.04;
+  twist << 0.05, -0.02, 0.03, 0.2, 0.1, -0.2;  // along the feedback: output power every tick
+  double sink = 0;
+  for (auto _ : state) {
+    const teleop::CappedWrench c = port.Apply(wall, feedback, twist, 1e-3, 15.0, 0.3, 0.0);
+    sink += c.displayed[0];
+    twist[0] = -twist[0];  // alternate so that the books move both ways
+    benchmark::DoNotOptimize(sink);
+  }
+}
+BENCHMARK(BM_FeedbackPassivityTick)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_FollowerWrenchEstimate(benchmark::State& state) {
+  const robot::RsrModel model = robot::RsrModel::Default();
+  teleop::WrenchEstimateConfig config;
+  config.carried_mass_kg = 2.5;
+  config.gravity_F_mps2 = Eigen::Vector3d(0, -9.81, 0);
+  config.remove_arm_weight = true;
+  robot::RsrJointVector effort;
+  effort << 1, -2, 3, 170, 175, 168;
+  const Eigen::Isometry3d X = model.geometry().X_FM_home;
+  for (auto _ : state) benchmark::DoNotOptimize(teleop::EstimateExternalWrench(model, X, effort, config));
+}
+BENCHMARK(BM_FollowerWrenchEstimate)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

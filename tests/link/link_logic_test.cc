@@ -218,6 +218,28 @@ TEST(WireConvert, TheHomedFlagAndANotHomedRefusalTravel) {
   }
 }
 
+// The follower's load and its port's energies cross the wire for the leader's bilateral feedback; a source byte this
+// version does not know is no wrench (the leader shows none).
+TEST(WireConvert, TheWrenchAndThePortEnergiesRoundTrip) {
+  teleop::FollowerStatusMessage m;
+  m.wrench_F = {517, -20, 3, 74, 0.5, -2};
+  m.wrench_source = teleop::WrenchSource::kDriveEfforts;
+  m.port_energy_in_j = 1.25;
+  m.port_energy_out_j = 3.5;
+  char frame_id[] = "rsr_fixed";
+  robossis_msgs_msg_dds__OperatingState_ w{};
+  ToOperatingState(m, frame_id, w);
+  teleop::FollowerStatusMessage back;
+  FromOperatingState(w, back);
+  EXPECT_EQ(back.wrench_F, m.wrench_F);
+  EXPECT_EQ(back.wrench_source, teleop::WrenchSource::kDriveEfforts);
+  EXPECT_EQ(back.port_energy_in_j, 1.25);
+  EXPECT_EQ(back.port_energy_out_j, 3.5);
+  w.wrench_source = 200;
+  FromOperatingState(w, back);
+  EXPECT_EQ(back.wrench_source, teleop::WrenchSource::kNone);
+}
+
 TEST(WireConvert, TimeSplitsIntoSecondsAndNanoseconds) {
   const auto t = ToTime(3 * 1000000000LL + 7);
   EXPECT_EQ(t.sec, 3);

@@ -21,7 +21,15 @@ constexpr std::int64_t kTickNs = 100'000;  // 10 kHz
 // scripted leader that sends one set-point every 10 ticks (1 kHz).
 class FollowerUnitTest : public ::testing::Test, protected ShippedFollowerSetup {
  protected:
-  const FollowerConfig config_ = ShippedFollowerConfig();
+  // With the weight the session removes for the Bullet follower: the wrench estimate's longest path runs each tick
+  // (TickAllocatesNothing covers it).
+  static FollowerConfig WithWeightRemoved(FollowerConfig c) {
+    c.wrench.carried_mass_kg = 2.5;
+    c.wrench.gravity_F_mps2 = Eigen::Vector3d(0, -9.81, 0);
+    c.wrench.remove_arm_weight = true;
+    return c;
+  }
+  const FollowerConfig config_ = WithWeightRemoved(ShippedFollowerConfig());
   rt::SimulatedClock clock_;
   InProcessLink link_{clock_};
   actuation::PulseRecorderFollower back_end_{model_, actuation_, home_, 1 << 16, 1 << 16};

@@ -77,6 +77,30 @@ TEST(TeleopCliTest, BadInputIsOneLineNamingTheOption) {
   EXPECT_NE(dev.output.find("robossis: error:"), std::string::npos) << dev.output;
 }
 
+// Bilateral feedback as a user asks for it: the muscles' load felt behind a delay, the summary's keys, and a bad
+// --feedback, --feedback-passivity or a load on a follower without muscles refused in one line.
+TEST(TeleopCliTest, BilateralFeedbackBehindADelayAndItsBadInput) {
+  const auto out = Temp("robossis_teleop_cli_bilateral");
+  const auto run = Robossis("teleop --device sim --follower sim --duration-s 1 --clock simulated --max-speed-mm-s 100 "
+                            "--feedback bilateral --feedback-gain 0.02 --feedback-passivity classic --link-delay-ms 50 "
+                            "--sim-load-n 517 --sim-load-nm 74 --no-plots --json --out " + out.string(), false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto summary = nlohmann::json::parse(run.output);
+  for (const char* key : {"feedback_energy_j", "max_feedback_force_n", "feedback_force_error_n_rms",
+                          "position_drift_mm", "tdpa_active_fraction"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_GT(summary["max_feedback_force_n"].get<double>(), 0.9 * 0.02 * 517);
+  EXPECT_LE(summary["feedback_energy_max_j"].get<double>(), 1e-9);
+  std::filesystem::remove_all(out);
+  for (const std::string bad : {"--feedback loud", "--feedback-passivity maybe", "--follower recorder --sim-load-n 5"}) {
+    const auto r = Robossis("teleop --duration-s 1 " + bad + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_NE(r.output.find("robossis: error: --"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+}
+
 TEST(TeleopCliTest, EStopWithoutAFollowerSaysSoAndFails) {
   // A domain of this process's own, loopback only, unsecured (the warning is printed): nobody answers.
   const std::string domain = std::to_string(1 + getpid() % 200);

@@ -1,0 +1,327 @@
+// Bilateral feedback: the follower's load on the hand. The leader maps a known follower wrench into the device frame
+// (the transfer's R_FO and scale, inverted as energy requires) with the gain, within 2 %; shows nothing while the
+// follower is not following; allocates nothing per tick. The wrench estimate inverts the statics. The passivity
+// observer never goes negative with a controller, and does without one at >= 25 ms against a hard wall. The
+// in-process link's delay line delivers nothing early.
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "haptics/device/simulated_device.h"
+#include "robot/rsr_kinematics.h"
+#include "robot/sim/rsr_simulation.h"
+#include "src/core/pose.h"
+#include "src/core/units.h"
+#include "src/teleop/bilateral_harness.h"
+#include "src/teleop/delay_line.h"
+#include "src/teleop/in_process_link.h"
+#include "src/teleop/leader_unit.h"
+#include "src/teleop/teleop_session.h"
+#include "src/teleop/wrench_estimate.h"
+#include "tests/support/alloc_counter.h"
+#include "tests/support/scratch_dir.h"
+#include "tests/teleop/teleop_fixture.h"
+
+namespace robossis::teleop {
+namespace {
+
+using namespace testing;
+
+haptics::HandScript StillHand() {
+  haptics::HandScript s;
+  s.name = "still";
+  const Eigen::Vector3d c = Sigma7().p_center_O();
+  s.target = [c](double) {
+    haptics::HandTarget h;
+    h.X_OH.translation() = c;
+    return h;
+  };
+  return s;
+}
+
+// A leader with a still hand, hearing a follower whose status carries `wrench_F`.
+struct FeedbackHarness {
+  FeedbackHarness(const transfer::HcToRsrFrame& frame, FeedbackPassivityScheme scheme)
+      : config(Bilateral(scheme)),
+        transfer(WithFrame(frame)),
+        device(Sigma7(), Haptics().device, Haptics().hand, StillHand(), config.device),
+        renderer(Renderer("proxy-safe", config.rate_hz)),
+        link(100),
+        unit(config, transfer, Rsr(), device, *renderer, link, Rsr().geometry().X_FM_home, 7) {
+    device.EnableForces(true);
+    link.follower_speaks = true;
+    link.follower.state = OperatingState::kEnabled;
+    link.follower.wrench_source = WrenchSource::kDriveEfforts;
+    PoseToArrays(Rsr().geometry().X_FM_home, link.follower.p_FM, link.follower.q_FM);
+  }
+  static LeaderConfig Bilateral(FeedbackPassivityScheme scheme) {
+    LeaderConfig c = Leader();
+    c.feedback.mode = FeedbackMode::kBilateral;
+    c.feedback.passivity.scheme = scheme;
+    return c;
+  }
+  static transfer::TransferConfig WithFrame(const transfer::HcToRsrFrame& frame) {
+    transfer::TransferConfig t = Transfer();
+    static_cast<transfer::HcToRsrFrame&>(t.mapping) = frame;
+    return t;
+  }
+  // Ticks the leader; the follower's port books the energy an ideal follower (no delay) would: the wrench times the
+  // hand's twist mapped into F (the network scheme's budget grows as a real follower's would).
+  LeaderTickRecord Run(double seconds) {
+    LeaderTickRecord r;
+    const auto ticks = static_cast<int>(seconds * config.rate_hz);
+    const transfer::HcToRsrFrame& frame = transfer.mapping;
+    for (int k = 0; k < ticks; ++k) {
+      clock.AdvanceNs(static_cast<std::int64_t>(1e9 / config.rate_hz));
+      unit.Tick(clock.now_ns());
+      while (unit.records().TryPop(r)) {
+        const Eigen::Vector3d v_F = frame.LinearToRsr(Eigen::Vector3d(r.v_O[0], r.v_O[1], r.v_O[2]));
+        const Eigen::Vector3d w_F = frame.AngularToRsr(Eigen::Vector3d(r.w_O[0], r.w_O[1], r.w_O[2]));
+        const FollowerStatusMessage& f = link.follower;
+        const double power = f.wrench_F[0] * v_F[0] + f.wrench_F[1] * v_F[1] + f.wrench_F[2] * v_F[2] +
+                             f.wrench_F[3] * w_F[0] + f.wrench_F[4] * w_F[1] + f.wrench_F[5] * w_F[2];
+        if (power > 0) link.follower.port_energy_in_j += power / config.rate_hz;
+      }
+    }
+    return r;
+  }
+  LeaderConfig config;
+  transfer::TransferConfig transfer;
+  haptics::SimulatedDevice device;
+  std::unique_ptr<haptics::HapticRenderer> renderer;
+  RecordingLeaderLink link;
+  LeaderUnit unit;
+  rt::SimulatedClock clock;
+};
+
+Vector6d KnownWrench() {
+  Vector6d w;
+  w << 100, -50, 200, 2, -1, 3;  // N at P, N·m about P, in F: 8.6 N and 0.09 N·m at the hand below the caps
+  return w;
+}
+
+TEST(BilateralFeedbackTest, AKnownFollowerWrenchIsShownScaledAndRotatedWithin2Percent) {
+  transfer::HcToRsrFrame frame;
+  frame.R_FO = RotationFromRpy(Eigen::Vector3d(DegToRad(25), DegToRad(-40), DegToRad(110)));
+  frame.translation_scale = 1.5;
+  for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kOff, FeedbackPassivityScheme::kNetwork}) {
+    SCOPED_TRACE(ToString(scheme));
+    FeedbackHarness h(frame, scheme);
+    const Vector6d W = KnownWrench();
+    for (int i = 0; i < 6; ++i) h.link.follower.wrench_F[i] = W[i];
+    const LeaderTickRecord r = h.Run(3.0);  // the hand settles against the force
+    const double g = h.config.feedback.gain;
+    const Eigen::Vector3d f_expected = g * frame.translation_scale * (frame.R_FO.transpose() * W.head<3>());
+    const Eigen::Vector3d tau_expected = g * frame.rotation_scale * (frame.R_FO.transpose() * W.tail<3>());
+    const Eigen::Vector3d f_shown(r.feedback_O[0], r.feedback_O[1], r.feedback_O[2]);
+    const Eigen::Vector3d tau_shown(r.feedback_O[3], r.feedback_O[4], r.feedback_O[5]);
+    EXPECT_LT((f_shown - f_expected).norm(), 0.02 * f_expected.norm()) << f_shown.transpose();
+    EXPECT_LT((tau_shown - tau_expected).norm(), 0.02 * tau_expected.norm()) << tau_shown.transpose();
+    // What the device was sent (walls + load; free space at home: the load alone).
+    EXPECT_LT((h.device.last_force_O() - f_expected).norm(), 0.02 * f_expected.norm());
+    // Unrotated or unscaled, the force would be far off (the check above can fail).
+    EXPECT_GT((g * W.head<3>() - f_expected).norm(), 0.3 * f_expected.norm());
+  }
+}
+
+TEST(BilateralFeedbackTest, NothingIsShownWhileTheFollowerDoesNotFollow) {
+  struct Case {
+    const char* name;
+    OperatingState state;
+    WrenchSource source;
+  };
+  for (const Case& c : {Case{"ready (holding)", OperatingState::kReady, WrenchSource::kDriveEfforts},
+                        Case{"clutched", OperatingState::kClutched, WrenchSource::kDriveEfforts},
+                        Case{"disabled", OperatingState::kDisabled, WrenchSource::kDriveEfforts},
+                        Case{"enabled but holding (no wrench)", OperatingState::kEnabled, WrenchSource::kNone}}) {
+    SCOPED_TRACE(c.name);
+    FeedbackHarness h(transfer::HcToRsrFrame{}, FeedbackPassivityScheme::kOff);
+    const Vector6d W = KnownWrench();
+    for (int i = 0; i < 6; ++i) h.link.follower.wrench_F[i] = W[i];
+    h.link.follower.state = c.state;
+    h.link.follower.wrench_source = c.source;
+    const LeaderTickRecord r = h.Run(1.0);
+    for (double v : r.feedback_O) EXPECT_EQ(v, 0.0);
+    EXPECT_EQ(r.feedback_shown, 0);
+    EXPECT_LT(h.device.last_force_O().norm(), 1e-9);
+  }
+}
+
+TEST(BilateralFeedbackTest, FeedbackTickDoesNotAllocate) {
+  FeedbackHarness h(transfer::HcToRsrFrame{}, FeedbackPassivityScheme::kNetwork);
+  const Vector6d W = KnownWrench();
+  for (int i = 0; i < 6; ++i) h.link.follower.wrench_F[i] = W[i];
+  for (int k = 0; k < 200; ++k) {  // warm up
+    h.clock.AdvanceNs(1'000'000);
+    h.unit.Tick(h.clock.now_ns());
+  }
+  LeaderTickRecord r;
+  ::robossis::testing::AllocationCounter counter;
+  for (int k = 0; k < 2000; ++k) {
+    h.clock.AdvanceNs(1'000'000);
+    h.link.follower.port_energy_in_j += 1e-4;  // the network budget moves
+    h.unit.Tick(h.clock.now_ns());
+    h.unit.records().TryPop(r);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(r.feedback_shown, 1);
+}
+
+// The whole runtime: the Bullet follower pulled by the paper's 517 N, 74 N·m, the hand's loop, 100 ms each way. The
+// load reaches the hand (scaled by the gain, within the caps) and the classic controller keeps the port passive at
+// every tick; with the walls alone nothing of it is shown.
+TEST(BilateralSessionTest, TheMusclesLoadIsFeltPassivelyBehindADelayAndNotWithTheWallsAlone) {
+  const robossis::testing::ScratchDir dir("robossis_bilateral_session");
+  std::filesystem::create_directories(dir.path());
+  TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+  setup.transfer.caps.max_linear_speed_m_s = 0.1;
+  setup.transfer.caps.max_angular_speed_rad_s = DegToRad(20);
+  setup.follower.setpoint.caps = setup.transfer.caps;
+  TeleopRequest request;
+  request.device = "sim";
+  request.follower = "sim";
+  request.duration_s = 3;
+  request.sim_load_n = 517;
+  request.sim_load_nm = 74;
+  request.link_delay_s = 0.1;
+  request.feedback = "bilateral";
+  request.feedback_passivity = "classic";
+  const auto bilateral = RunTeleop(request, setup, dir.path() / "bilateral.rlog").summary;
+  const double felt = bilateral["max_feedback_force_n"].get<double>();
+  EXPECT_GT(felt, 0.9 * 0.025 * 517);
+  EXPECT_LE(felt, 15.0 + 1e-9);
+  EXPECT_LE(bilateral["feedback_energy_max_j"].get<double>(), 1e-9);
+  EXPECT_GE(bilateral["passivity_observer_min_j"].get<double>(), -1e-9);
+  EXPECT_EQ(bilateral["follower_limit_violations"].get<int>(), 0);
+  request.feedback = "walls";
+  const auto walls = RunTeleop(request, setup, dir.path() / "walls.rlog").summary;
+  EXPECT_EQ(walls["max_feedback_force_n"].get<double>(), 0.0);
+}
+
+TEST(WrenchEstimateTest, InvertsTheStaticsAndRemovesTheCarriedWeight) {
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> u(-1, 1);
+  WrenchEstimateConfig config;
+  config.carried_mass_kg = 3.2;
+  config.com_M = Eigen::Vector3d(0.01, -0.02, 0.05);
+  config.gravity_F_mps2 = Eigen::Vector3d(0, -9.81, 0);
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Isometry3d X = Rsr().geometry().X_FM_home;
+    X.translation() += 0.03 * Eigen::Vector3d(u(gen), u(gen), u(gen));
+    X.linear() = RotationFromVector(0.1 * Eigen::Vector3d(u(gen), u(gen), u(gen))) * X.linear();
+    if (!robot::IsPoseFeasible(Rsr(), X)) continue;
+    Vector6d W;
+    W << 500 * u(gen), 500 * u(gen), 500 * u(gen), 70 * u(gen), 70 * u(gen), 70 * u(gen);
+    // The drives hold the load and the weight.
+    const Eigen::Vector3d weight = config.carried_mass_kg * config.gravity_F_mps2;
+    Vector6d total = W;
+    total.head<3>() += weight;
+    total.tail<3>() += (X.linear() * config.com_M).cross(weight);
+    const robot::RsrStaticsResult q = robot::CalcActuatorEfforts(Rsr(), X, total);
+    ASSERT_FALSE(q.singular);
+    robot::RsrJointVector effort;
+    effort << q.rotary_torque_nm, q.linear_force_n;
+    const Vector6d estimate = EstimateExternalWrench(Rsr(), X, effort, config);
+    EXPECT_LT((estimate - W).norm(), 1e-6 * W.norm()) << estimate.transpose() << " vs " << W.transpose();
+  }
+}
+
+// The Bullet follower holding the ring at home against the muscles (517 N along the femur axis, 74 N·m about it):
+// the estimate from its drive efforts, the ring's and the arms' weight removed, is the traction it applies.
+TEST(WrenchEstimateTest, TheBulletFollowersEffortsGiveTheMusclesTraction) {
+  const sim::SimConfig config = sim::LoadSimConfig(ConfigPath("sim.yaml"), DefaultDataDir());
+  const Eigen::Isometry3d home = Rsr().geometry().X_FM_home;
+  sim::MuscleTraction traction(config.traction, Eigen::Vector3d::UnitZ(),
+                               Eigen::Vector3d(0, 0, config.bone.fracture_site_z_m), home);
+  traction.Calibrate(home, home.linear(), 517, 74);
+  sim::SimOptions options;
+  options.with_bone = false;
+  sim::RsrSimulation simulation(Rsr(), config, nullptr, &traction, home, options);
+  for (int k = 0; k < 1000; ++k) simulation.Step();  // 1 s: settled
+  WrenchEstimateConfig estimate_config;
+  estimate_config.carried_mass_kg = config.masses.moving_ring_kg;
+  estimate_config.gravity_F_mps2 = config.physics.gravity_F_mps2;
+  estimate_config.remove_arm_weight = true;
+  estimate_config.arm_masses = config.masses;
+  const robot::RsrFollowerState state = simulation.State();
+  const Vector6d estimate = EstimateExternalWrench(Rsr(), state.X_FM, state.effort, estimate_config);
+  const Vector6d truth = simulation.diagnostics().traction.wrench_P_F;
+  ASSERT_GT(truth.head<3>().norm(), 500);
+  EXPECT_LT((estimate.head<3>() - truth.head<3>()).norm(), 0.02 * truth.head<3>().norm())
+      << estimate.transpose() << " vs " << truth.transpose();
+  EXPECT_LT((estimate.tail<3>() - truth.tail<3>()).norm(), 0.02 * truth.tail<3>().norm())
+      << estimate.transpose() << " vs " << truth.transpose();
+}
+
+TEST(DelayLineTest, DeliversTheNewestMessageOnlyOnceItsDelayHasPassed) {
+  DelayLine<int> line(25'000'000, 64);
+  line.Send(1, 0);
+  line.Send(2, 1'000'000);
+  int v = 0;
+  std::int64_t due = 0;
+  EXPECT_FALSE(line.Take(24'999'999, v, due));
+  ASSERT_TRUE(line.Take(25'000'000, v, due));
+  EXPECT_EQ(v, 1);
+  EXPECT_FALSE(line.Take(25'500'000, v, due));
+  ASSERT_TRUE(line.Take(40'000'000, v, due));
+  EXPECT_EQ(v, 2);
+  EXPECT_EQ(due, 26'000'000);
+}
+
+// --link-delay-ms: both directions of the in-process link arrive that much later, the set-point stamped with its
+// arrival (the follower judges freshness from it); a watcher reads the status as the follower published it.
+TEST(DelayLineTest, TheInProcessLinkDelaysBothDirections) {
+  rt::SimulatedClock clock;
+  InProcessLink link(clock, 64, 0.05);
+  SetPointMessage sp;
+  sp.sequence = 7;
+  link.SendSetPoint(sp);
+  FollowerStatusMessage status;
+  status.sequence = 9;
+  link.PublishStatus(status);
+  SetPointMessage got_sp;
+  FollowerStatusMessage got_status;
+  std::int64_t arrival_ns = 0;
+  clock.AdvanceNs(49'000'000);
+  EXPECT_FALSE(link.TakeSetPoint(got_sp, arrival_ns));
+  EXPECT_FALSE(link.TakeFollowerStatus(got_status));
+  EXPECT_TRUE(link.ReadFollowerStatus(got_status));
+  clock.AdvanceNs(1'000'000);
+  ASSERT_TRUE(link.TakeSetPoint(got_sp, arrival_ns));
+  EXPECT_EQ(got_sp.sequence, 7u);
+  EXPECT_EQ(arrival_ns, 50'000'000);
+  ASSERT_TRUE(link.TakeFollowerStatus(got_status));
+  EXPECT_EQ(got_status.sequence, 9u);
+}
+
+// The observer (the scheme's budget minus the output energy) never goes negative with a controller, at any delay,
+// with 5 % loss and jitter (the classic one-port's budget is what the hand gave: the hand never gets more); without
+// one it does against the hard wall at >= 25 ms, so this test can fail.
+TEST(FeedbackPassivityTest, TheObserverStaysPositiveWithAControllerAndNotWithout) {
+  HarnessParams p;
+  p.scenario = HarnessScenario::kWall;
+  p.duration_s = 20;
+  for (const double delay_ms : {0.0, 10.0, 25.0, 50.0, 100.0, 200.0}) {
+    SCOPED_TRACE(delay_ms);
+    p.one_way_delay_s = 1e-3 * delay_ms;
+    for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+      p.scheme = scheme;
+      const HarnessResult r = RunHarness(p);
+      EXPECT_GE(r.min_observer_j, -1e-12) << ToString(scheme);
+      // The one-port bound is the hand's own: the port never gave it more than it took.
+      if (scheme == FeedbackPassivityScheme::kClassic) {
+        EXPECT_LE(r.max_feedback_energy_j, 1e-12);
+      }
+    }
+    if (delay_ms >= 25) {
+      p.scheme = FeedbackPassivityScheme::kOff;
+      EXPECT_LT(RunHarness(p).min_observer_j, 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace robossis::teleop
