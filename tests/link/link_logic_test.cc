@@ -228,7 +228,7 @@ TEST(WireConvert, TheWrenchAndThePortEnergiesRoundTrip) {
   m.port_energy_out_j = 3.5;
   char frame_id[] = "rsr_fixed";
   robossis_msgs_msg_dds__OperatingState_ w{};
-  ToOperatingState(m, frame_id, w);
+  ToOperatingState(m, 0, frame_id, w);
   teleop::FollowerStatusMessage back;
   FromOperatingState(w, back);
   EXPECT_EQ(back.wrench_F, m.wrench_F);
