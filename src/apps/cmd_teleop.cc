@@ -327,14 +327,14 @@ void RegisterBilateralMatrix(CLI::App& app) {
       PrintJson(rows);
       return;
     }
-    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s\n", "scenario", "delay", "scheme", "E_fb_J",
-                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s");
+    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s %9s\n", "scenario", "delay", "scheme", "E_fb_J",
+                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s", "E_F_exc");
     for (const auto& r : results) {
-      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f\n",
+      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f %9.4f\n",
                   teleop::ToString(r.params.scenario), 1e3 * r.params.one_way_delay_s,
                   teleop::ToString(r.params.scheme), r.feedback_energy_j, r.max_feedback_energy_j, r.min_observer_j,
                   r.dissipated_share, r.force_error_n_rms, r.position_error_mm_rms, r.drift_mm, r.force_hf_share,
-                  r.rest_after_event_s);
+                  r.rest_after_event_s, r.max_follower_excess_j);
     }
   });
 }

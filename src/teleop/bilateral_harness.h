@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "src/teleop/feedback_passivity.h"
+#include "src/teleop/follower_passivity.h"
 
 namespace robossis::teleop {
 
@@ -71,6 +72,9 @@ struct HarnessResult {
   double drift_growth_mm = 0;         // that, minus the same over the first second after 5 s
   double force_hf_share = 0;          // share of the displayed force's power above 25 Hz
   double rest_after_event_s = -1;     // kRelease/kLetGo: time until the hand stays below 1 mm/s (-1: never, or no event)
+  // The network gave the environment minus what the hand put in as received (divided by the gain), largest at any
+  // sample (<= 0: the follower's port passive in the network form's sense; meaningful for kNetwork only).
+  double max_follower_excess_j = 0;
   double active_fraction = 0;         // samples the controller acted in
   double max_force_n = 0;
 };

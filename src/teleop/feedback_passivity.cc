@@ -58,7 +58,7 @@ void FeedbackPassivity::Reset() noexcept {
 
 double FeedbackPassivity::Budget(double remote_in_j) const noexcept {
   switch (config_.scheme) {
-    case FeedbackPassivityScheme::kNetwork: return remote_in_j;
+    case FeedbackPassivityScheme::kNetwork: return std::min(remote_in_j, energies_.in_j);
     case FeedbackPassivityScheme::kClassic:
     case FeedbackPassivityScheme::kOff: break;
   }

@@ -16,9 +16,11 @@
 //             between the two ports is a two-port observed by the energies each side sends with its packets; the
 //             leader's output may not exceed the energy that entered the network at the follower, as it is received
 //             (E_out(k) <= G·E_in,F(k − T), G the feedback gain: the leader displays G times the follower's power).
-//             Energy that a preloaded environment (the muscles' traction) releases into the follower's port
-//             is energy that entered the network: the hand may be given it, so the port's own E_out <= E_in can be
-//             exceeded by what the environment stored before the session; kClassic never lets it out.
+//             The follower side of the form (follower_passivity.h) bounds what the channel gives the environment
+//             by what the hand put in. Energy that a preloaded environment (the muscles' traction) releases into
+//             the follower's port still enters the network (up to G·F²/2k, 0.16 J at the hand for 517 N on
+//             20.7 kN/m); the budget is therefore also capped by the port's own input, E_out(k) <= E_in(k), so that
+//             the hand never gets more than it gave, as the one-port requires, at every sample.
 //
 // Controller: an impedance-causality passivity controller, a variable damper f -= alpha·v (Ryu et al. 2004), with
 // alpha chosen to bring the output energy back to the budget in that sample; alpha is capped
