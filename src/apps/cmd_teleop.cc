@@ -297,6 +297,8 @@ void RegisterBilateralMatrix(CLI::App& app) {
     double duration_s = 60;
     std::vector<double> delays_ms{0, 10, 25, 50, 100, 200};
     double loss = 0.05;
+    double release_s = 0;
+    bool let_go_detector = false;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -310,9 +312,19 @@ void RegisterBilateralMatrix(CLI::App& app) {
   cmd->add_option("--delays-ms", o->delays_ms, "One-way delays")->check(CLI::Range(0.0, 1000.0))->delimiter(',');
   cmd->add_option("--loss", o->loss, "Packet loss per direction (0-0.5)")->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  cmd->add_option("--release-s", o->release_s,
+                  "The passivity controller's action released over this time (0: tick by tick; leader.yaml "
+                  "feedback.release_s)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_flag("--let-go-detector", o->let_go_detector,
+               "The leader drops the load and damps the device once it believes the operator let go "
+               "(src/teleop/let_go_detector.h)");
   cmd->add_flag("--json", o->json, "Print the rows as JSON");
   cmd->callback([o] {
     teleop::HarnessParams base;
+    base.passivity.release_s = o->release_s;
+    base.detect_let_go = o->let_go_detector;
     base.duration_s = o->duration_s;
     base.loss = o->loss;
     std::vector<double> delays_s;

@@ -131,6 +131,8 @@ HarnessResult RunHarness(const HarnessParams& p) {
   FeedbackPassivityConfig pc = p.passivity;
   pc.scheme = p.scheme;
   FeedbackPassivity port(pc);
+  LetGoDetector detector(p.let_go);
+  bool let_go_seen = false;
   FollowerPassivity follower_port;
   Channel<SetPointPacket> setpoints;  // leader → follower: the hand's position and its port's input energy
   Channel<StatusPacket> statuses;     // follower → leader: the wrench and the follower port's input energy
@@ -149,7 +151,8 @@ HarnessResult RunHarness(const HarnessParams& p) {
     // Leader: the newest status, the port.
     statuses.Deliver(t, received);
     Vector6d wanted = Vector6d::Zero(), twist = Vector6d::Zero();
-    wanted[0] = p.gain * received.wrench_n;
+    // Once the operator let go (detected): no load, the device damped to rest.
+    wanted[0] = let_go_seen ? -p.let_go.rest_damping_n_s_per_m * v_h : p.gain * received.wrench_n;
     twist[0] = v_h;
     const CappedWrench c =
         port.Apply(Vector6d::Zero(), wanted, twist, dt, p.max_force_n, 1.0, p.gain * received.energy_in_j);
@@ -170,8 +173,14 @@ HarnessResult RunHarness(const HarnessParams& p) {
     const double mass = let_go ? kDeviceMassKg : p.hand_mass_kg;
     const double grasp = let_go ? -kDeviceDampingNSPerM * v_h
                                 : p.hand_stiffness_n_per_m * (x_i - x_h) + p.hand_damping_n_s_per_m * (v_i - v_h);
+    const double v_before = v_h;
     v_h += (grasp + f_shown) / mass * dt;
     x_h += v_h * dt;
+    if (p.detect_let_go && !let_go_seen) {
+      let_go_seen = detector.Update(Eigen::Vector3d(f_shown, 0, 0), Eigen::Vector3d(v_before, 0, 0),
+                                    Eigen::Vector3d(v_h, 0, 0), dt);
+      if (let_go_seen) r.let_go_detected_s = t;
+    }
     if (uniform(gen) >= p.loss) {
       setpoints.in_flight.push_back({{x_h, port.energies().in_j}, t + p.one_way_delay_s + p.jitter_s * uniform(gen),
                                      ++setpoints.next_seq});
@@ -276,6 +285,7 @@ nlohmann::ordered_json ToJson(const HarnessResult& r) {
   j["force_hf_share"] = r.force_hf_share;
   j["rest_after_event_s"] = r.rest_after_event_s;
   j["follower_excess_max_j"] = r.max_follower_excess_j;
+  j["let_go_detected_s"] = r.let_go_detected_s;
   j["active_fraction"] = r.active_fraction;
   j["max_force_n"] = r.max_force_n;
   return j;

@@ -348,5 +348,57 @@ TEST(FeedbackPassivityTest, TheNetworkFormIsPassiveAtBothPorts) {
   }
 }
 
+// The controller's action released over release_s instead of tick by tick: the force's share above 25 Hz falls
+// below 10 % where the tick-by-tick controller puts 13-41 % there (so this test can fail), and the port stays passive
+// at every sample.
+TEST(FeedbackPassivityTest, AReleasedControllerDoesNotChatterAndStaysPassive) {
+  HarnessParams p;
+  p.duration_s = 20;
+  for (const HarnessScenario scenario : {HarnessScenario::kWall, HarnessScenario::kLoad517}) {
+    p.scenario = scenario;
+    for (const double delay_ms : {25.0, 100.0}) {
+      p.one_way_delay_s = 1e-3 * delay_ms;
+      for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+        SCOPED_TRACE(std::string(ToString(scenario)) + " " + std::to_string(delay_ms) + " ms " + ToString(scheme));
+        p.scheme = scheme;
+        p.passivity.release_s = 0.25;
+        const HarnessResult released = RunHarness(p);
+        EXPECT_LT(released.force_hf_share, 0.1);
+        EXPECT_LE(released.max_feedback_energy_j, 1e-12);
+        p.passivity.release_s = 0;
+        EXPECT_GT(RunHarness(p).force_hf_share, 0.1);
+      }
+    }
+  }
+}
+
+// After the operator lets go with the 517 N load at 100 ms, the device comes to rest (< 1 mm/s) within 1 s with the
+// let-go detector and not without it (classic: it coasts on its own friction once the controller cut the load); the
+// detector believes no let-go in the scenarios where the hand holds on.
+TEST(LetGoDetectorTest, TheDeviceRestsWithinASecondAfterTheOperatorLetsGo) {
+  HarnessParams p;
+  p.duration_s = 35;
+  p.one_way_delay_s = 0.1;
+  for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+    SCOPED_TRACE(ToString(scheme));
+    p.scheme = scheme;
+    p.scenario = HarnessScenario::kLetGo;
+    p.detect_let_go = false;
+    // (network holds the follower back at 100 ms and the device happens to stop in 0.7 s without the detector.)
+    if (scheme == FeedbackPassivityScheme::kClassic) {
+      EXPECT_GT(RunHarness(p).rest_after_event_s, 1.0);
+    }
+    p.detect_let_go = true;
+    const HarnessResult r = RunHarness(p);
+    EXPECT_GE(r.rest_after_event_s, 0.0);
+    EXPECT_LT(r.rest_after_event_s, 1.0);
+    EXPECT_LE(r.max_feedback_energy_j, 1e-12);
+    for (const HarnessScenario held : {HarnessScenario::kWall, HarnessScenario::kLoad517, HarnessScenario::kRelease}) {
+      p.scenario = held;
+      EXPECT_LT(RunHarness(p).let_go_detected_s, 0.0) << ToString(held);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace robossis::teleop
