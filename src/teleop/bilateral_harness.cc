@@ -197,7 +197,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
       step *= follower_port.StepShare(step, wrench, command.energy_in_j / p.gain);
     }
     v_f = step[0] / dt;
-    x_f += step[0];
+    x_f = p.scheme == FeedbackPassivityScheme::kNetwork ? x_f + step[0] : command.position_m;
     w = EnvironmentForce(p, t, x_f, v_f);
     wrench[0] = w;
     follower_port.Book(wrench, step);

@@ -50,6 +50,16 @@ CappedWrench CapWrench(const Vector6d& wall_O, const Vector6d& feedback_O, doubl
   return c;
 }
 
+namespace {
+
+Vector6d Damper(double alpha, double beta, const Vector6d& twist_O) {
+  Vector6d d;
+  d << alpha * twist_O.head<3>(), beta * twist_O.tail<3>();
+  return d;
+}
+
+}  // namespace
+
 FeedbackPassivity::FeedbackPassivity(const FeedbackPassivityConfig& config) : config_(config) { config.Validate(); }
 
 void FeedbackPassivity::Reset() noexcept {
@@ -96,27 +106,26 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
   // share take (the caps' turn is checked on the result).
   const double p0 = feedback_O.dot(twist_O);
   auto power_with = [&](double a, double b, double l) { return power - (1 - l) * p0 - a * v2 - b * w2; };
-  if (power_with(alpha, beta, lambda) * dt > allowed) {
+  double excess = power_with(alpha, beta, lambda) * dt - allowed;
+  if (excess > 0) {
     // The damper, linear part first, then angular, each capped; alpha·|v|²·dt removes the excess energy.
-    double excess = power_with(alpha, beta, lambda) * dt - allowed;
     if (v2 > 0) {
-      const double more = std::min(excess / (v2 * dt), config_.max_damping_n_s_per_m - alpha);
-      alpha += std::max(0.0, more);
-      excess = power_with(alpha, beta, lambda) * dt - allowed;
+      const double more = std::max(0.0, std::min(excess / (v2 * dt), config_.max_damping_n_s_per_m - alpha));
+      alpha += more;
+      excess -= more * v2 * dt;
     }
     if (w2 > 0 && excess > 0) {
-      beta += std::max(0.0, std::min(excess / (w2 * dt), config_.max_damping_nm_s_per_rad - beta));
-      excess = power_with(alpha, beta, lambda) * dt - allowed;
+      const double more = std::max(0.0, std::min(excess / (w2 * dt), config_.max_damping_nm_s_per_rad - beta));
+      beta += more;
+      excess -= more * w2 * dt;
     }
     // Beyond the dampers' caps, the load itself is scaled down just enough (lambda in [0, 1]): the force shrinks
     // continuously where the cap binds instead of dropping to zero, which would chatter.
-    if (excess > 0 && p0 > 0) lambda = std::clamp((allowed / dt + alpha * v2 + beta * w2) / p0, 0.0, lambda);
+    if (excess > 0 && p0 > 0) lambda = std::clamp((allowed / dt + Damper(alpha, beta, twist_O).dot(twist_O)) / p0, 0.0, lambda);
   }
   if (alpha > 0 || beta > 0 || lambda < 1) {
     active_ = true;
-    Vector6d damper;
-    damper << alpha * twist_O.head<3>(), beta * twist_O.tail<3>();
-    c = CapWrench(wall_O, lambda * feedback_O - damper, max_force_n, max_torque_nm);
+    c = CapWrench(wall_O, lambda * feedback_O - Damper(alpha, beta, twist_O), max_force_n, max_torque_nm);
     power = c.feedback.dot(twist_O);
     if (power * dt > allowed) {
       // The caps turned it: no feedback this sample.
