@@ -121,7 +121,9 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
     }
     // Beyond the dampers' caps, the load itself is scaled down just enough (lambda in [0, 1]): the force shrinks
     // continuously where the cap binds instead of dropping to zero, which would chatter.
-    if (excess > 0 && p0 > 0) lambda = std::clamp((allowed / dt + Damper(alpha, beta, twist_O).dot(twist_O)) / p0, 0.0, lambda);
+    if (excess > 0 && p0 > 0) {
+      lambda = std::clamp((allowed / dt + Damper(alpha, beta, twist_O).dot(twist_O)) / p0, 0.0, lambda);
+    }
   }
   if (alpha > 0 || beta > 0 || lambda < 1) {
     active_ = true;

@@ -54,8 +54,8 @@ struct FeedbackPassivityConfig {
   double max_damping_n_s_per_m = 30.0;
   double max_damping_nm_s_per_rad = 0.05;
   // [assumed] The controller's action released over this time constant (0: sample by sample, the classic TDPA
-  // controller, which chatters); 0.25 s brings the force's share above 25 Hz from up to 52 % to <= 7.7 % (classic)
-  // and <= 5.2 % (network) in `robossis bilateral-matrix --release-s 0.25`, at a price in force tracking (README).
+  // controller, which chatters); 0.25 s brings the force's share above 25 Hz from up to 52 % to <= 7.6 % (classic)
+  // and <= 5.5 % (network) in `robossis bilateral-matrix --release-s 0.25`, at a price in force tracking (README).
   double release_s = 0;
   void Validate() const;  // throws std::invalid_argument naming the field
 };

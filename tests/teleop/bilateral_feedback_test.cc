@@ -358,7 +358,8 @@ TEST(FeedbackPassivityTest, AReleasedControllerDoesNotChatterAndStaysPassive) {
     p.scenario = scenario;
     for (const double delay_ms : {25.0, 100.0}) {
       p.one_way_delay_s = 1e-3 * delay_ms;
-      for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+      for (const FeedbackPassivityScheme scheme :
+           {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
         SCOPED_TRACE(std::string(ToString(scenario)) + " " + std::to_string(delay_ms) + " ms " + ToString(scheme));
         p.scheme = scheme;
         p.passivity.release_s = 0.25;
