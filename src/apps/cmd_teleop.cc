@@ -297,6 +297,8 @@ void RegisterBilateralMatrix(CLI::App& app) {
     double duration_s = 60;
     std::vector<double> delays_ms{0, 10, 25, 50, 100, 200};
     double loss = 0.05;
+    double release_s = 0;
+    bool let_go_detector = false;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -310,9 +312,19 @@ void RegisterBilateralMatrix(CLI::App& app) {
   cmd->add_option("--delays-ms", o->delays_ms, "One-way delays")->check(CLI::Range(0.0, 1000.0))->delimiter(',');
   cmd->add_option("--loss", o->loss, "Packet loss per direction (0-0.5)")->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  cmd->add_option("--release-s", o->release_s,
+                  "The passivity controller's action released over this time (0: tick by tick; leader.yaml "
+                  "feedback.release_s)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_flag("--let-go-detector", o->let_go_detector,
+               "The leader drops the load and damps the device once it believes the operator let go "
+               "(src/teleop/let_go_detector.h)");
   cmd->add_flag("--json", o->json, "Print the rows as JSON");
   cmd->callback([o] {
     teleop::HarnessParams base;
+    base.passivity.release_s = o->release_s;
+    base.detect_let_go = o->let_go_detector;
     base.duration_s = o->duration_s;
     base.loss = o->loss;
     std::vector<double> delays_s;
@@ -327,14 +339,14 @@ void RegisterBilateralMatrix(CLI::App& app) {
       PrintJson(rows);
       return;
     }
-    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s\n", "scenario", "delay", "scheme", "E_fb_J",
-                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s");
+    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s %9s\n", "scenario", "delay", "scheme", "E_fb_J",
+                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s", "E_F_exc");
     for (const auto& r : results) {
-      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f\n",
+      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f %9.4f\n",
                   teleop::ToString(r.params.scenario), 1e3 * r.params.one_way_delay_s,
                   teleop::ToString(r.params.scheme), r.feedback_energy_j, r.max_feedback_energy_j, r.min_observer_j,
                   r.dissipated_share, r.force_error_n_rms, r.position_error_mm_rms, r.drift_mm, r.force_hf_share,
-                  r.rest_after_event_s);
+                  r.rest_after_event_s, r.max_follower_excess_j);
     }
   });
 }

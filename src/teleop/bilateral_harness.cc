@@ -33,6 +33,10 @@ constexpr double kDeviceDampingNSPerM = 0.5;
 constexpr double kStillBeforeEventS = 5;
 constexpr double kRestSpeedMS = 0.001;   // [assumed] "at rest": below 1 mm/s
 constexpr double kHighFrequencyHz = 25;  // [assumed] the chatter band: above 25 Hz
+// [assumed] The follower's speed cap, the teleop runs' --max-speed-mm-s 100: a set-point farther away than one
+// tick's travel (the network form's follower making up a held-back step) is approached at this speed; the other
+// schemes' follower is the ideal position source of the first matrix.
+constexpr double kFollowerMaxSpeedMS = 0.1;
 
 // A packet in flight, latest-value semantics: one arriving after a newer one is dropped.
 template <typename T>
@@ -66,6 +70,10 @@ struct Channel {
 struct StatusPacket {
   double wrench_n = 0;
   double energy_in_j = 0;
+};
+struct SetPointPacket {
+  double position_m = 0;
+  double energy_in_j = 0;  // what the hand put into the leader's port
 };
 
 // The environment's force on the follower at x, v (1-D, + = pushing toward +x).
@@ -123,12 +131,15 @@ HarnessResult RunHarness(const HarnessParams& p) {
   FeedbackPassivityConfig pc = p.passivity;
   pc.scheme = p.scheme;
   FeedbackPassivity port(pc);
-  Channel<double> setpoints;          // leader → follower: the hand's position
+  LetGoDetector detector(p.let_go);
+  bool let_go_seen = false;
+  FollowerPassivity follower_port;
+  Channel<SetPointPacket> setpoints;  // leader → follower: the hand's position and its port's input energy
   Channel<StatusPacket> statuses;     // follower → leader: the wrench and the follower port's input energy
   StatusPacket received;
-  double x_cmd = 0;
+  SetPointPacket command;
 
-  double x_h = 0, v_h = 0, x_f = 0, v_f = 0, e_in_f = 0, dissipated = 0;
+  double x_h = 0, v_h = 0, x_f = 0, v_f = 0, w = 0, dissipated = 0;
   std::vector<double> hand_x(n), env_f(n), shown_f(n), follower_x(n);
   std::uint64_t active = 0;
   double force_err2 = 0, pos_err2 = 0;
@@ -140,7 +151,8 @@ HarnessResult RunHarness(const HarnessParams& p) {
     // Leader: the newest status, the port.
     statuses.Deliver(t, received);
     Vector6d wanted = Vector6d::Zero(), twist = Vector6d::Zero();
-    wanted[0] = p.gain * received.wrench_n;
+    // Once the operator let go (detected): no load, the device damped to rest.
+    wanted[0] = let_go_seen ? -p.let_go.rest_damping_n_s_per_m * v_h : p.gain * received.wrench_n;
     twist[0] = v_h;
     const CappedWrench c =
         port.Apply(Vector6d::Zero(), wanted, twist, dt, p.max_force_n, 1.0, p.gain * received.energy_in_j);
@@ -161,21 +173,39 @@ HarnessResult RunHarness(const HarnessParams& p) {
     const double mass = let_go ? kDeviceMassKg : p.hand_mass_kg;
     const double grasp = let_go ? -kDeviceDampingNSPerM * v_h
                                 : p.hand_stiffness_n_per_m * (x_i - x_h) + p.hand_damping_n_s_per_m * (v_i - v_h);
+    const double v_before = v_h;
     v_h += (grasp + f_shown) / mass * dt;
     x_h += v_h * dt;
+    if (p.detect_let_go && !let_go_seen) {
+      let_go_seen = detector.Update(Eigen::Vector3d(f_shown, 0, 0), Eigen::Vector3d(v_before, 0, 0),
+                                    Eigen::Vector3d(v_h, 0, 0), dt);
+      if (let_go_seen) r.let_go_detected_s = t;
+    }
     if (uniform(gen) >= p.loss) {
-      setpoints.in_flight.push_back({x_h, t + p.one_way_delay_s + p.jitter_s * uniform(gen), ++setpoints.next_seq});
+      setpoints.in_flight.push_back({{x_h, port.energies().in_j}, t + p.one_way_delay_s + p.jitter_s * uniform(gen),
+                                     ++setpoints.next_seq});
     }
 
-    // Follower: position-controlled onto the newest set-point; the environment's force on it.
-    setpoints.Deliver(t, x_cmd);
-    v_f = (x_cmd - x_f) / dt;
-    x_f = x_cmd;
-    const double w = EnvironmentForce(p, t, x_f, v_f);
-    e_in_f += std::max(0.0, w * v_f) * dt;  // the environment pushed the robot along its motion
+    // Follower: position-controlled toward the newest set-point (kNetwork: as far as its port's budget allows);
+    // the environment's force on it.
+    setpoints.Deliver(t, command);
+    Vector6d step = Vector6d::Zero(), wrench = Vector6d::Zero();
+    step[0] = command.position_m - x_f;
+    wrench[0] = w;
+    if (p.scheme == FeedbackPassivityScheme::kNetwork) {
+      step[0] = std::clamp(step[0], -kFollowerMaxSpeedMS * dt, kFollowerMaxSpeedMS * dt);
+      step *= follower_port.StepShare(step, wrench, command.energy_in_j / p.gain);
+    }
+    v_f = step[0] / dt;
+    x_f = p.scheme == FeedbackPassivityScheme::kNetwork ? x_f + step[0] : command.position_m;
+    w = EnvironmentForce(p, t, x_f, v_f);
+    wrench[0] = w;
+    follower_port.Book(wrench, step);
+    r.max_follower_excess_j =
+        std::max(r.max_follower_excess_j, follower_port.energies().out_j - command.energy_in_j / p.gain);
     if (uniform(gen) >= p.loss) {
-      statuses.in_flight.push_back({{w, e_in_f}, t + p.one_way_delay_s + p.jitter_s * uniform(gen),
-                                    ++statuses.next_seq});
+      statuses.in_flight.push_back({{w, follower_port.energies().in_j},
+                                    t + p.one_way_delay_s + p.jitter_s * uniform(gen), ++statuses.next_seq});
     }
 
     hand_x[k] = x_h;
@@ -254,6 +284,8 @@ nlohmann::ordered_json ToJson(const HarnessResult& r) {
   j["drift_growth_mm"] = r.drift_growth_mm;
   j["force_hf_share"] = r.force_hf_share;
   j["rest_after_event_s"] = r.rest_after_event_s;
+  j["follower_excess_max_j"] = r.max_follower_excess_j;
+  j["let_go_detected_s"] = r.let_go_detected_s;
   j["active_fraction"] = r.active_fraction;
   j["max_force_n"] = r.max_force_n;
   return j;

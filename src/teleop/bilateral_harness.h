@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "src/teleop/feedback_passivity.h"
+#include "src/teleop/follower_passivity.h"
+#include "src/teleop/let_go_detector.h"
 
 namespace robossis::teleop {
 
@@ -56,6 +58,8 @@ struct HarnessParams {
   double load_preload_n = 517;
   double release_at_s = 30;
   FeedbackPassivityConfig passivity;  // its damper caps
+  bool detect_let_go = false;         // the leader's let-go detector on (let_go_detector.h)
+  LetGoConfig let_go;
 };
 
 struct HarnessResult {
@@ -71,6 +75,10 @@ struct HarnessResult {
   double drift_growth_mm = 0;         // that, minus the same over the first second after 5 s
   double force_hf_share = 0;          // share of the displayed force's power above 25 Hz
   double rest_after_event_s = -1;     // kRelease/kLetGo: time until the hand stays below 1 mm/s (-1: never, or no event)
+  // The network gave the environment minus what the hand put in as received (divided by the gain), largest at any
+  // sample (<= 0: the follower's port passive in the network form's sense; meaningful for kNetwork only).
+  double max_follower_excess_j = 0;
+  double let_go_detected_s = -1;      // when the detector believed the operator let go (-1: never)
   double active_fraction = 0;         // samples the controller acted in
   double max_force_n = 0;
 };

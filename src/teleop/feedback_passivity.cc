@@ -30,6 +30,9 @@ void FeedbackPassivityConfig::Validate() const {
   if (!(std::isfinite(max_damping_nm_s_per_rad) && max_damping_nm_s_per_rad >= 0)) {
     throw std::invalid_argument("feedback passivity: max_damping_nm_s_per_rad must be finite and >= 0");
   }
+  if (!(std::isfinite(release_s) && release_s >= 0)) {
+    throw std::invalid_argument("feedback passivity: release_s must be finite and >= 0");
+  }
 }
 
 Eigen::Vector3d CapNorm(const Eigen::Vector3d& v, double max) noexcept {
@@ -47,6 +50,16 @@ CappedWrench CapWrench(const Vector6d& wall_O, const Vector6d& feedback_O, doubl
   return c;
 }
 
+namespace {
+
+Vector6d Damper(double alpha, double beta, const Vector6d& twist_O) {
+  Vector6d d;
+  d << alpha * twist_O.head<3>(), beta * twist_O.tail<3>();
+  return d;
+}
+
+}  // namespace
+
 FeedbackPassivity::FeedbackPassivity(const FeedbackPassivityConfig& config) : config_(config) { config.Validate(); }
 
 void FeedbackPassivity::Reset() noexcept {
@@ -54,11 +67,13 @@ void FeedbackPassivity::Reset() noexcept {
   observed_j_ = 0;
   active_ = false;
   damping_ = 0;
+  alpha_held_ = beta_held_ = 0;
+  lambda_held_ = 1;
 }
 
 double FeedbackPassivity::Budget(double remote_in_j) const noexcept {
   switch (config_.scheme) {
-    case FeedbackPassivityScheme::kNetwork: return remote_in_j;
+    case FeedbackPassivityScheme::kNetwork: return std::min(remote_in_j, energies_.in_j);
     case FeedbackPassivityScheme::kClassic:
     case FeedbackPassivityScheme::kOff: break;
   }
@@ -72,46 +87,68 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
   damping_ = 0;
   CappedWrench c = CapWrench(wall_O, feedback_O, max_force_n, max_torque_nm);
   double power = c.feedback.dot(twist_O);
-  if (config_.scheme != FeedbackPassivityScheme::kOff && power > 0) {
-    // What the port may still give this sample: the budget less what it gave (never below zero: a budget that
-    // shrank, e.g. a network bound received late, gives nothing now rather than taking back what was given).
-    const double allowed = std::max(0.0, Budget(remote_in_j) - energies_.out_j);
-    if (power * dt > allowed) {
-      active_ = true;
-      // The damper, linear part first, then angular, each capped; alpha·|v|²·dt removes the excess energy.
-      Vector6d damper = Vector6d::Zero();
-      double excess = power * dt - allowed;
-      const double v2 = twist_O.head<3>().squaredNorm();
-      if (v2 > 0 && excess > 0) {
-        const double alpha = std::min(excess / (v2 * dt), config_.max_damping_n_s_per_m);
-        damper.head<3>() = alpha * twist_O.head<3>();
-        excess -= alpha * v2 * dt;
-        damping_ = alpha;
-      }
-      const double w2 = twist_O.tail<3>().squaredNorm();
-      if (w2 > 0 && excess > 0) {
-        const double beta = std::min(excess / (w2 * dt), config_.max_damping_nm_s_per_rad);
-        damper.tail<3>() = beta * twist_O.tail<3>();
-        excess -= beta * w2 * dt;
-      }
-      // Beyond the dampers' caps, the load itself is scaled down just enough (lambda in [0, 1]): the force shrinks
-      // continuously where the cap binds instead of dropping to zero, which would chatter.
-      double lambda = 1;
-      const double p0 = feedback_O.dot(twist_O);
-      if (excess > 0 && p0 > 0) lambda = std::clamp((allowed / dt + damper.dot(twist_O)) / p0, 0.0, 1.0);
-      c = CapWrench(wall_O, lambda * feedback_O - damper, max_force_n, max_torque_nm);
-      power = c.feedback.dot(twist_O);
-      if (power * dt > allowed) {
-        // The caps turned it: no feedback this sample.
-        c = CapWrench(wall_O, Vector6d::Zero(), max_force_n, max_torque_nm);
-        power = 0;
-      }
+  if (config_.scheme == FeedbackPassivityScheme::kOff) {
+    Book(power, dt, remote_in_j);
+    return c;
+  }
+  // The smoothed action (release_s > 0): the damper decays from its last value and the load's share recovers at
+  // 1/release_s instead of both snapping back the next sample. Holding a damper longer, or the load lower, only takes
+  // energy out of the port, so the bound below still holds at every sample.
+  const bool smooth = config_.release_s > 0;
+  const double decay = smooth ? std::exp(-dt / config_.release_s) : 0.0;
+  double alpha = decay * alpha_held_, beta = decay * beta_held_;
+  double lambda = smooth ? std::min(1.0, lambda_held_ + dt / config_.release_s) : 1.0;
+  // What the port may still give this sample: the budget less what it gave (never below zero: a budget that
+  // shrank, e.g. a network bound received late, gives nothing now rather than taking back what was given).
+  const double allowed = std::max(0.0, Budget(remote_in_j) - energies_.out_j);
+  const double v2 = twist_O.head<3>().squaredNorm(), w2 = twist_O.tail<3>().squaredNorm();
+  // The power with dampers a, b and the load's share l: the capped load's power, less what the dampers and the
+  // share take (the caps' turn is checked on the result).
+  const double p0 = feedback_O.dot(twist_O);
+  auto power_with = [&](double a, double b, double l) { return power - (1 - l) * p0 - a * v2 - b * w2; };
+  double excess = power_with(alpha, beta, lambda) * dt - allowed;
+  if (excess > 0) {
+    // The damper, linear part first, then angular, each capped; alpha·|v|²·dt removes the excess energy.
+    if (v2 > 0) {
+      const double more = std::max(0.0, std::min(excess / (v2 * dt), config_.max_damping_n_s_per_m - alpha));
+      alpha += more;
+      excess -= more * v2 * dt;
+    }
+    if (w2 > 0 && excess > 0) {
+      const double more = std::max(0.0, std::min(excess / (w2 * dt), config_.max_damping_nm_s_per_rad - beta));
+      beta += more;
+      excess -= more * w2 * dt;
+    }
+    // Beyond the dampers' caps, the load itself is scaled down just enough (lambda in [0, 1]): the force shrinks
+    // continuously where the cap binds instead of dropping to zero, which would chatter.
+    if (excess > 0 && p0 > 0) {
+      lambda = std::clamp((allowed / dt + Damper(alpha, beta, twist_O).dot(twist_O)) / p0, 0.0, lambda);
     }
   }
+  if (alpha > 0 || beta > 0 || lambda < 1) {
+    active_ = true;
+    c = CapWrench(wall_O, lambda * feedback_O - Damper(alpha, beta, twist_O), max_force_n, max_torque_nm);
+    power = c.feedback.dot(twist_O);
+    if (power * dt > allowed) {
+      // The caps turned it: no feedback this sample.
+      c = CapWrench(wall_O, Vector6d::Zero(), max_force_n, max_torque_nm);
+      power = 0;
+      lambda = 0;
+    }
+  }
+  // A damper decayed below a thousandth of its cap is gone (the controller idle again).
+  alpha_held_ = alpha > 1e-3 * config_.max_damping_n_s_per_m ? alpha : 0.0;
+  beta_held_ = beta > 1e-3 * config_.max_damping_nm_s_per_rad ? beta : 0.0;
+  lambda_held_ = lambda;
+  damping_ = alpha;
+  Book(power, dt, remote_in_j);
+  return c;
+}
+
+void FeedbackPassivity::Book(double power, double dt, double remote_in_j) noexcept {
   if (power > 0) energies_.out_j += power * dt;
   else energies_.in_j -= power * dt;
   observed_j_ = Budget(remote_in_j) - energies_.out_j;
-  return c;
 }
 
 }  // namespace robossis::teleop

@@ -80,6 +80,7 @@ LeaderConfig LeaderConfig::FromConfig(const ConfigNode& root) {
   c.feedback.passivity.scheme = ParseFeedbackPassivityScheme("feedback.passivity", feedback.String("passivity"));
   c.feedback.passivity.max_damping_n_s_per_m = feedback.NumberInRange("max_damping_n_s_per_m", 0.0, 1000.0);
   c.feedback.passivity.max_damping_nm_s_per_rad = feedback.NumberInRange("max_damping_nm_s_per_rad", 0.0, 10.0);
+  c.feedback.passivity.release_s = feedback.NumberInRange("release_s", 0.0, 10.0);
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();

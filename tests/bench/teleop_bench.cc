@@ -39,6 +39,8 @@
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/delay_estimate.h"
 #include "src/teleop/feedback_passivity.h"
+#include "src/teleop/follower_passivity.h"
+#include "src/teleop/let_go_detector.h"
 #include "src/teleop/wrench_estimate.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
@@ -259,11 +261,13 @@ BENCHMARK(BM_TransferFilterDelay)
 
 // The bilateral feedback's added cost per tick (budget: 20 µs): the leader's passivity observer and controller on
 // the feedback port (arg 0: observing only; arg 1: the controller acting every tick, its damper capped and the
-// feedback cut, the longest path), and the follower's wrench estimate (the Jacobian of eq. 15, the statics, the
+// feedback cut, the longest path; arg 2: the same released over 0.25 s), the follower's side of the network form
+// and the let-go detector, and the follower's wrench estimate (the Jacobian of eq. 15, the statics, the
 // arms' weight by virtual work), which runs in its 10 kHz tick.
 void BM_FeedbackPassivityTick(benchmark::State& state) {
   teleop::FeedbackPassivityConfig config;
   config.scheme = state.range(0) == 0 ? teleop::FeedbackPassivityScheme::kOff : teleop::FeedbackPassivityScheme::kNetwork;
+  if (state.range(0) == 2) config.release_s = 0.25;
   teleop::FeedbackPassivity port(config);
   Vector6d wall = Vector6d::Zero(), feedback, twist;
   feedback << 8, -3, 5, 0.05, 0.02, -0.04;
@@ -276,7 +280,24 @@ void BM_FeedbackPassivityTick(benchmark::State& state) {
     benchmark::DoNotOptimize(sink);
   }
 }
-BENCHMARK(BM_FeedbackPassivityTick)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FeedbackPassivityTick)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+void BM_FeedbackFollowerPortAndLetGo(benchmark::State& state) {
+  teleop::FollowerPassivity follower_port;
+  teleop::LetGoDetector let_go(teleop::LetGoConfig{});
+  Vector6d step, wrench;
+  step << 1e-4, -2e-5, 3e-5, 2e-4, 1e-4, -2e-4;
+  wrench << -300, 50, -100, 20, -10, 30;  // against the step: the budget binds
+  double sink = 0;
+  for (auto _ : state) {
+    const double share = follower_port.StepShare(step, wrench, 1.0);
+    follower_port.Book(wrench, share * step);
+    sink += share;
+    benchmark::DoNotOptimize(let_go.Update(wrench.head<3>() * 0.01, step.head<3>(), -step.head<3>(), 1e-3));
+    benchmark::DoNotOptimize(sink);
+  }
+}
+BENCHMARK(BM_FeedbackFollowerPortAndLetGo)->Unit(benchmark::kMicrosecond);
 
 void BM_FollowerWrenchEstimate(benchmark::State& state) {
   const robot::RsrModel model = robot::RsrModel::Default();

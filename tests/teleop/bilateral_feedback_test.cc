@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -107,7 +108,9 @@ TEST(BilateralFeedbackTest, AKnownFollowerWrenchIsShownScaledAndRotatedWithin2Pe
   transfer::HcToRsrFrame frame;
   frame.R_FO = RotationFromRpy(Eigen::Vector3d(DegToRad(25), DegToRad(-40), DegToRad(110)));
   frame.translation_scale = 1.5;
-  for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kOff, FeedbackPassivityScheme::kNetwork}) {
+  // The mapping observed alone: a constant load on a hand that first yields along it is an energy source, which every
+  // scheme that keeps the hand passive (classic, network) cuts while the hand yields.
+  for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kOff}) {
     SCOPED_TRACE(ToString(scheme));
     FeedbackHarness h(frame, scheme);
     const Vector6d W = KnownWrench();
@@ -319,6 +322,81 @@ TEST(FeedbackPassivityTest, TheObserverStaysPositiveWithAControllerAndNotWithout
     if (delay_ms >= 25) {
       p.scheme = FeedbackPassivityScheme::kOff;
       EXPECT_LT(RunHarness(p).min_observer_j, 0.0);
+    }
+  }
+}
+
+// The network form with its follower-side controller: the channel gives the environment no more than the hand put in
+// (E_out,F <= E_in,L(k − T) / G, within the one-sample lag of the environment's measured force: 0.02 J at the
+// follower is 0.5 mJ at the hand), and the hand gets no more than it gave, at every sample, at every delay, with 5 %
+// loss and jitter. Without the follower's controller the robot pushes 1.6-160 J more into the wall or the traction
+// than the hand paid for (the classic scheme's follower in `robossis bilateral-matrix`), so this test can fail.
+TEST(FeedbackPassivityTest, TheNetworkFormIsPassiveAtBothPorts) {
+  HarnessParams p;
+  p.scheme = FeedbackPassivityScheme::kNetwork;
+  p.duration_s = 20;
+  for (const HarnessScenario scenario : {HarnessScenario::kWall, HarnessScenario::kLoad517}) {
+    p.scenario = scenario;
+    for (const double delay_ms : {0.0, 10.0, 25.0, 50.0, 100.0, 200.0}) {
+      SCOPED_TRACE(std::string(ToString(scenario)) + " " + std::to_string(delay_ms) + " ms");
+      p.one_way_delay_s = 1e-3 * delay_ms;
+      const HarnessResult r = RunHarness(p);
+      EXPECT_LE(r.max_follower_excess_j, 0.02);
+      EXPECT_LE(r.max_feedback_energy_j, 1e-12);
+      EXPECT_GE(r.min_observer_j, -1e-12);
+    }
+  }
+}
+
+// The controller's action released over release_s instead of tick by tick: the force's share above 25 Hz falls
+// below 10 % where the tick-by-tick controller puts 13-41 % there (so this test can fail), and the port stays passive
+// at every sample.
+TEST(FeedbackPassivityTest, AReleasedControllerDoesNotChatterAndStaysPassive) {
+  HarnessParams p;
+  p.duration_s = 20;
+  for (const HarnessScenario scenario : {HarnessScenario::kWall, HarnessScenario::kLoad517}) {
+    p.scenario = scenario;
+    for (const double delay_ms : {25.0, 100.0}) {
+      p.one_way_delay_s = 1e-3 * delay_ms;
+      for (const FeedbackPassivityScheme scheme :
+           {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+        SCOPED_TRACE(std::string(ToString(scenario)) + " " + std::to_string(delay_ms) + " ms " + ToString(scheme));
+        p.scheme = scheme;
+        p.passivity.release_s = 0.25;
+        const HarnessResult released = RunHarness(p);
+        EXPECT_LT(released.force_hf_share, 0.1);
+        EXPECT_LE(released.max_feedback_energy_j, 1e-12);
+        p.passivity.release_s = 0;
+        EXPECT_GT(RunHarness(p).force_hf_share, 0.1);
+      }
+    }
+  }
+}
+
+// After the operator lets go with the 517 N load at 100 ms, the device comes to rest (< 1 mm/s) within 1 s with the
+// let-go detector and not without it (classic: it coasts on its own friction once the controller cut the load); the
+// detector believes no let-go in the scenarios where the hand holds on.
+TEST(LetGoDetectorTest, TheDeviceRestsWithinASecondAfterTheOperatorLetsGo) {
+  HarnessParams p;
+  p.duration_s = 35;
+  p.one_way_delay_s = 0.1;
+  for (const FeedbackPassivityScheme scheme : {FeedbackPassivityScheme::kClassic, FeedbackPassivityScheme::kNetwork}) {
+    SCOPED_TRACE(ToString(scheme));
+    p.scheme = scheme;
+    p.scenario = HarnessScenario::kLetGo;
+    p.detect_let_go = false;
+    // (network holds the follower back at 100 ms and the device happens to stop in 0.7 s without the detector.)
+    if (scheme == FeedbackPassivityScheme::kClassic) {
+      EXPECT_GT(RunHarness(p).rest_after_event_s, 1.0);
+    }
+    p.detect_let_go = true;
+    const HarnessResult r = RunHarness(p);
+    EXPECT_GE(r.rest_after_event_s, 0.0);
+    EXPECT_LT(r.rest_after_event_s, 1.0);
+    EXPECT_LE(r.max_feedback_energy_j, 1e-12);
+    for (const HarnessScenario held : {HarnessScenario::kWall, HarnessScenario::kLoad517, HarnessScenario::kRelease}) {
+      p.scenario = held;
+      EXPECT_LT(RunHarness(p).let_go_detected_s, 0.0) << ToString(held);
     }
   }
 }
