@@ -124,6 +124,8 @@ json TakeSummaryJson(const MotiveTakeSummary& s) {
   j["first_frame"] = s.first_frame;
   j["last_frame"] = s.last_frame;
   j["frame_jumps"] = s.frame_jumps;
+  j["complete"] = s.complete;
+  j["frames_in_header"] = s.frames_in_header >= 0 ? json(s.frames_in_header) : json(nullptr);
   j["duration_s"] = s.frames > 0 ? static_cast<double>(s.last_frame - s.first_frame) / s.header.export_rate_hz : 0.0;
   return j;
 }

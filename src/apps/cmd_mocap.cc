@@ -38,6 +38,10 @@ void PrintInspectText(const json& doc) {
   }
   std::cout << "markers: " << doc["markers"].get<int>() << ", frame-number jumps: " << doc["frame_jumps"].get<long long>()
             << "\n";
+  if (!doc["complete"].get<bool>()) {
+    std::cout << "excerpt: " << doc["frames"].get<long long>() << " frames read of the header's "
+              << doc["frames_in_header"].get<long long>() << " ('Total Exported Frames'); read as it is\n";
+  }
 }
 
 }  // namespace
