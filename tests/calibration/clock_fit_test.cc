@@ -125,5 +125,16 @@ TEST(ClockFitTest, WarnsWhenTheMotionCannotFixTheOffset) {
   EXPECT_THAT(ClockReportText(c), HasSubstr("warning:"));
 }
 
+TEST(ClockFitTest, WarnsWhenTheRingStandsStill) {
+  PoseTrajectory still;
+  for (int i = 0; i <= 3000; ++i) still.Add(i * 0.01, Eigen::Vector3d(0, 0, 0.284), Eigen::Quaterniond::Identity());
+  const Take t = RunTake(11, 0.004, 0.0, &still);
+  const ClockFitResult& c = t.result.clock_fit;
+  EXPECT_FALSE(c.identifiable);
+  EXPECT_THAT(c.warning, HasSubstr("does not fix the clock offset"));
+  EXPECT_LE(c.offset_ci_s[0], -2.0 + c.offset_mid_s);
+  EXPECT_GE(c.offset_ci_s[1], 2.0 + c.offset_mid_s);
+}
+
 }  // namespace
 }  // namespace robossis::calibration
