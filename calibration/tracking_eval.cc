@@ -173,6 +173,7 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
     reg.X_FT = result.clock_fit.X_FT;
     reg.X_MB = result.clock_fit.X_MB;
   };
+  reg.method += ", then one fit with the clock";
   fit();
   if (flag_flips(MakePairs(track, reference, clock, excluded, nullptr))) fit();
   // The window is a promise of the options ("searched only within"): a refinement that ends outside it is not
