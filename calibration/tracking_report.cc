@@ -44,6 +44,8 @@ std::string ClockModelName(const ClockFitResult& c) {
 }
 
 json ClockJson(const ClockFitResult& c) {
+  // The k = 2 interval of one standard uncertainty alone (ms), shown beside the combined one.
+  const auto Around = [](double x_s, double u_s) { return json{(x_s - 2 * u_s) * 1e3, (x_s + 2 * u_s) * 1e3}; };
   json budget = json::array();
   for (const UncertaintySource& u : c.budget) {
     budget.push_back(json{{"source", u.name}, {"type", u.evaluation}, {"standard_uncertainty_ms",
@@ -57,6 +59,8 @@ json ClockJson(const ClockFitResult& c) {
               {"interval_ms", {c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3}},
               {"sigma_bootstrap_ms", c.offset_sigma_bootstrap_s * 1e3},
               {"sigma_curvature_ms", c.offset_sigma_curvature_s * 1e3},
+              {"interval_bootstrap_ms", Around(c.offset_mid_s, c.offset_sigma_bootstrap_s)},
+              {"interval_curvature_ms", Around(c.offset_mid_s, c.offset_sigma_curvature_s)},
               {"crb_ms", c.crb_s * 1e3},
               {"crb_position_only_ms", c.crb_position_only_s * 1e3},
               {"budget", budget},

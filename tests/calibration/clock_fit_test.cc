@@ -105,6 +105,11 @@ TEST(ClockFitTest, SummaryJsonHasTheClockKeys) {
   EXPECT_EQ(j["clock_model"], "offset only (BIC: no drift)");
   EXPECT_EQ(j["clock"]["coverage_factor"], 2);
   EXPECT_EQ(j["clock"]["budget"].size(), 4u);
+  // Both intervals beside the combined one: the block bootstrap's and the curvature's.
+  EXPECT_NEAR(j["clock"]["interval_bootstrap_ms"][1].get<double>(),
+              (c.offset_mid_s + 2 * c.offset_sigma_bootstrap_s) * 1e3, 1e-9);
+  EXPECT_NEAR(j["clock"]["interval_curvature_ms"][0].get<double>(),
+              (c.offset_mid_s - 2 * c.offset_sigma_curvature_s) * 1e3, 1e-9);
   EXPECT_THAT(ClockReportText(c), HasSubstr("no drift"));
 }
 
