@@ -378,6 +378,7 @@ ClockFitResult FitClockAndRegistration(const RigidBodyTrack& track, const std::v
   const std::vector<int> p0 = FreeParams(false), p1 = FreeParams(true);
   Fit chosen = no_drift;
   Linearization L = Linearize(reference, frames, no_drift.x, t_mid, w, options, frame_dt_s);
+  result.drift_considered = options.allow_drift;
   if (options.allow_drift) {
     const Fit with_drift = Solve(reference, frames, no_drift.x, t_mid, w, true, options.max_iterations);
     const Linearization L1 = Linearize(reference, frames, with_drift.x, t_mid, w, options, frame_dt_s);

@@ -55,6 +55,7 @@ struct ClockFitResult {
   double t_mid_s = 0;
   double offset_mid_s = 0;
   ClockModel clock;  // t_reference = (1 + drift) t_mocap + offset (offset at t_mocap = 0, drift 0 when not selected)
+  bool drift_considered = false;  // the drift model was fitted and tested (ClockFitOptions::allow_drift)
   bool drift_selected = false;
   double drift = 0;           // of the drift model (whether selected or not)
   double drift_bound = 0;     // |drift| ≤ this (k = 2) from the drift model

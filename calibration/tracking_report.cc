@@ -40,6 +40,7 @@ std::string Tum(const std::vector<double>& t, const std::vector<Eigen::Isometry3
 }  // namespace
 
 std::string ClockModelName(const ClockFitResult& c) {
+  if (!c.drift_considered) return "offset only (drift not estimated)";
   return c.drift_selected ? "offset + drift (BIC)" : "offset only (BIC: no drift)";
 }
 
@@ -88,7 +89,9 @@ std::string ClockReportText(const ClockFitResult& c) {
                 c.expanded_uncertainty_s * 1e3, c.offset_sigma_bootstrap_s * 1e3, c.offset_sigma_curvature_s * 1e3,
                 c.crb_s * 1e3);
   out += buf;
-  if (c.drift_selected) {
+  if (!c.drift_considered) {
+    std::snprintf(buf, sizeof buf, "clock drift: not estimated (the offset-only model was asked for)\n");
+  } else if (c.drift_selected) {
     std::snprintf(buf, sizeof buf, "clock drift: %.2f ppm [%.2f, %.2f] (selected by BIC, dBIC %.1f)\n", c.drift * 1e6,
                   c.drift_ci[0] * 1e6, c.drift_ci[1] * 1e6, c.delta_bic);
   } else {
@@ -110,7 +113,7 @@ json TrackingSummaryJson(const TrackingEvalResult& r) {
   j["clock_offset_ci_ms"] = {c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3};
   j["clock_offset_crb_ms"] = c.crb_s * 1e3;
   j["clock_drift_ppm"] = c.drift_selected ? json(c.drift * 1e6) : json(nullptr);
-  j["clock_drift_bound_ppm"] = c.drift_bound * 1e6;
+  j["clock_drift_bound_ppm"] = c.drift_considered ? json(c.drift_bound * 1e6) : json(nullptr);
   j["clock_model"] = ClockModelName(c);
   j["clock"] = ClockJson(c);
   j["speed_correlation"] = r.speed_correlation;

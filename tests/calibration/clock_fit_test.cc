@@ -92,6 +92,20 @@ TEST(ClockFitTest, SelectsDriftWhereTheDataAsksForIt) {
   EXPECT_LT(std::abs(c.offset_mid_s - TrueOffsetAtMid(t)), 0.3e-3);
 }
 
+// --no-drift: the offset-only model, and no bound claimed for a drift that was not tested.
+TEST(ClockFitTest, OffsetOnlyModelClaimsNoDriftBound) {
+  const PoseTrajectory motion = testing::BenchMotion(12, 30.0, 1000.0, 0.010, 3.0);
+  const SyntheticTrackerOptions o = testing::ClockTakeTracker(12, 0.003, 0.0);
+  MotiveReader reader(testing::WriteTake(motion, o), "take.csv");
+  TrackingEvalOptions options;
+  options.clock_fit.allow_drift = false;
+  const TrackingEvalResult r = EvaluateTracking(ReadRigidBodyTrack(reader, o.rigid_body_name), motion, options);
+  const nlohmann::ordered_json j = TrackingSummaryJson(r);
+  EXPECT_TRUE(j["clock_drift_bound_ppm"].is_null());
+  EXPECT_EQ(j["clock_model"], "offset only (drift not estimated)");
+  EXPECT_THAT(ClockReportText(r.clock_fit), HasSubstr("not estimated"));
+}
+
 TEST(ClockFitTest, SummaryJsonHasTheClockKeys) {
   const Take t = RunTake(9, 0.005, 0.0);
   const nlohmann::ordered_json j = TrackingSummaryJson(t.result);
