@@ -55,7 +55,7 @@ struct Take {
   TrackingEvalResult result;
 };
 
-// 90 s at 240 Hz, 0.1 mm noise, 6 occlusions: the issue's take.
+// 90 s at 240 Hz, 0.1 mm noise, 6 occlusions: the acceptance's take.
 Take RunTake(std::uint32_t seed, double offset_s, double drift, const PoseTrajectory* motion = nullptr) {
   Take take;
   take.commanded = motion ? *motion : testing::BenchMotion(seed, 90.0, 1000.0, 0.010, 3.0);
@@ -70,7 +70,7 @@ double TrueOffsetAtMid(const Take& t) {
   return t.tracker.clock_offset_s + t.tracker.clock_drift * t.result.clock_fit.t_mid_s;
 }
 
-TEST(ClockFitTest, RecoversTheOffsetNearTheBoundOnTheIssuesTake) {
+TEST(ClockFitTest, RecoversTheOffsetNearTheBoundOnA90sTake) {
   const Take t = RunTake(7, 0.0123, 0.0);
   const ClockFitResult& c = t.result.clock_fit;
   EXPECT_FALSE(c.drift_selected);

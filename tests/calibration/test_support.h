@@ -81,7 +81,7 @@ inline PoseTrajectory BenchMotion(std::uint32_t seed, double duration_s, double 
   return traj;
 }
 
-// The tracker of the clock's acceptance (the take): 240 Hz, 0.1 mm position noise (σ = bound / 3), 6
+// The tracker of the clock's acceptance: 240 Hz, 0.1 mm position noise (σ = bound / 3), 6
 // occlusions, an unknown placement and marker offset, the given clock.
 inline SyntheticTrackerOptions ClockTakeTracker(std::uint32_t seed, double offset_s, double drift) {
   SyntheticTrackerOptions o;
