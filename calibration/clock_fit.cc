@@ -413,7 +413,8 @@ ClockFitResult FitClockAndRegistration(const RigidBodyTrack& track, const std::v
   double sd_drift_unused = 0;
   Curvature(L.A, p, kOffset, &result.offset_sigma_curvature_s, &result.offset_information_share);
   Bootstrap(L, p, options, &result.offset_sigma_bootstrap_s, &sd_drift_unused);
-  result.crb_s = L.A(kOffset, kOffset) > 0 ? 1.0 / std::sqrt(L.A(kOffset, kOffset)) : std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  result.crb_s = L.A(kOffset, kOffset) > 0 ? 1.0 / std::sqrt(L.A(kOffset, kOffset)) : kInf;
   // The interpolation: how far the offset would move if the reference were interpolated linearly instead (the
   // position residuals' change projected on the offset's direction).
   double sum_v2 = 0, shift_num = 0;
@@ -428,7 +429,7 @@ ClockFitResult FitClockAndRegistration(const RigidBodyTrack& track, const std::v
       shift_num += s.v_FM.dot(p_lin - s.p_FM);
     }
   }
-  result.crb_position_only_s = sum_v2 > 0 ? w.position_m / std::sqrt(sum_v2) : std::numeric_limits<double>::infinity();
+  result.crb_position_only_s = sum_v2 > 0 ? w.position_m / std::sqrt(sum_v2) : kInf;
   const double interpolation_shift = sum_v2 > 0 ? std::abs(shift_num) / sum_v2 : 0.0;
   const double u_a = std::max(result.offset_sigma_curvature_s, result.offset_sigma_bootstrap_s);
   const double u_interp = interpolation_shift / std::sqrt(3.0);

@@ -52,7 +52,8 @@ json ClockJson(const ClockFitResult& c) {
     budget.push_back(json{{"source", u.name}, {"type", u.evaluation}, {"standard_uncertainty_ms",
                           u.standard_uncertainty_s * 1e3}, {"note", u.note}});
   }
-  return json{{"measurand", "t_reference - t_mocap at the take's middle (t_mocap = t_mid_s), through the ring's motion"},
+  return json{{"measurand",
+               "t_reference - t_mocap at the take's middle (t_mocap = t_mid_s), through the ring's motion"},
               {"t_mid_s", c.t_mid_s},
               {"offset_ms", c.offset_mid_s * 1e3},
               {"expanded_uncertainty_ms", c.expanded_uncertainty_s * 1e3},

@@ -165,8 +165,8 @@ void WriteTrackingSection(DemoContext& demo) {
     << "| clock drift (ppm) | " << Fmt(tracker.clock_drift * 1e6, 1) << " | "
     << (clock.drift_selected ? Fmt(clock.drift * 1e6, 1) : std::string("no drift, |drift| <= ") +
                                                                Fmt(clock.drift_bound * 1e6, 1))
-    << " (" << calibration::ClockModelName(clock) << ") | " << Fmt((result.clock.drift - tracker.clock_drift) * 1e6, 1)
-    << " ppm |\n"
+    << " (" << calibration::ClockModelName(clock) << ") | "
+    << Fmt((result.clock.drift - tracker.clock_drift) * 1e6, 1) << " ppm |\n"
     << "| clock error over the take (offset and drift together; start / middle / end) | 0 | — | "
     << Fmt(clock_error_ms(track.t_s.front()), 3) << " / " << Fmt(clock_error_ms(0.5 * (track.t_s.front() + track.t_s.back())), 3)
     << " / " << Fmt(clock_error_ms(track.t_s.back()), 3) << " ms |\n"
