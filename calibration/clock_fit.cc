@@ -29,10 +29,7 @@ using Jacobian = Eigen::Matrix<double, 6, kParams>;
 // the clock (assumption: the coarse offset is within a few ms of the fit's; 0.1 s is far beyond).
 constexpr double kEndMarginS = 0.1;
 
-struct Params {
-  Eigen::Isometry3d X_FT, X_MB;
-  double offset_mid_s = 0, drift = 0;
-};
+using Params = ClockFitParameters;
 
 struct Frame {
   double t_s;
@@ -312,6 +309,15 @@ void Bootstrap(const Linearization& L, const std::vector<int>& p, const ClockFit
 }
 
 }  // namespace
+
+ClockFitParameters PerturbClockFitParameters(const ClockFitParameters& x, const Eigen::Matrix<double, 14, 1>& d) {
+  return Apply(x, d);
+}
+
+bool ClockFitResidual(const ReferenceCurve& reference, const ClockFitParameters& x, double t_mid_s, double t_s,
+                      const Eigen::Isometry3d& X_TB, Eigen::Matrix<double, 6, 1>& r, Eigen::Matrix<double, 6, 14>* J) {
+  return Linearize(reference, x, t_mid_s, Frame{t_s, X_TB, 0}, r, J);
+}
 
 ClockFitResult FitClockAndRegistration(const RigidBodyTrack& track, const std::vector<std::uint8_t>& excluded,
                                        const PoseTrajectory& reference_trajectory, const HandEyeResult& start,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "calibration/mocap_track.h"
+#include "calibration/reference_curve.h"
 #include "calibration/registration.h"
 #include "calibration/time_alignment.h"
 #include "calibration/trajectory.h"
@@ -78,6 +79,20 @@ struct ClockFitResult {
   double block_s = 0;
   int iterations = 0;
 };
+
+// The fit's model of one tracked frame, exposed so that its analytic Jacobian can be checked against finite
+// differences. Parameters are perturbed on the right: X_FT · exp(δ[0..5]) (rotation, translation), X_MB · exp(δ[6..11]),
+// offset_mid_s + δ[12], drift + δ[13].
+struct ClockFitParameters {
+  Eigen::Isometry3d X_FT = Eigen::Isometry3d::Identity(), X_MB = Eigen::Isometry3d::Identity();
+  double offset_mid_s = 0, drift = 0;
+};
+ClockFitParameters PerturbClockFitParameters(const ClockFitParameters& x, const Eigen::Matrix<double, 14, 1>& d);
+// The residual of a tracked body pose X_TB at mocap time t_s (ring pose predicted through X_FT and X_MB, minus the
+// reference at t_s + offset_mid_s + drift (t_s − t_mid_s): position m, rotation vector rad) and, when J is given,
+// its Jacobian (first order in the residual rotation). False outside the reference.
+bool ClockFitResidual(const ReferenceCurve& reference, const ClockFitParameters& x, double t_mid_s, double t_s,
+                      const Eigen::Isometry3d& X_TB, Eigen::Matrix<double, 6, 1>& r, Eigen::Matrix<double, 6, 14>* J);
 
 // `excluded` (one per track frame, may be empty) drops frames (orientation flips). `start`: the registration and
 // the coarse clock (offset only) to start from. Throws std::runtime_error when too few frames overlap the reference.

@@ -49,6 +49,40 @@ TEST(ReferenceCurveTest, AngularVelocityOfAConstantRotation) {
   EXPECT_LT(RotationAngleBetween(s.R_FM, Eigen::AngleAxisd(0.3 * 0.2345, Eigen::Vector3d::UnitZ()).matrix()), 1e-9);
 }
 
+// The analytic Jacobian against central differences, at a pose with a residual of the tracker's size.
+TEST(ClockFitJacobianTest, MatchesFiniteDifferences) {
+  const PoseTrajectory motion = testing::BenchMotion(3, 10.0, 1000.0, 0.010, 3.0);
+  const ReferenceCurve curve(motion);
+  ClockFitParameters x;
+  x.X_FT = PoseFromMmDeg((Vector6d() << 350, -420, 1650, 178, -3, 35).finished()).inverse();
+  x.X_MB = PoseFromMmDeg((Vector6d() << 12, -8, 30, 2, -1, 40).finished());
+  x.offset_mid_s = 0.0123;
+  x.drift = 20e-6;
+  const double t_mid = 5.0;
+  constexpr int kDriftColumn = 13;
+  for (double t : {2.3, 4.71, 7.9}) {
+    ReferenceState s;
+    ASSERT_TRUE(curve.Evaluate(t + x.offset_mid_s + x.drift * (t - t_mid), s));
+    Eigen::Isometry3d X_FM = Eigen::Isometry3d::Identity();
+    X_FM.linear() = RotationFromVector(Eigen::Vector3d(1e-4, -2e-4, 1e-4)) * s.R_FM;
+    X_FM.translation() = s.p_FM + Eigen::Vector3d(1e-4, 0, -1e-4);
+    const Eigen::Isometry3d X_TB = x.X_FT.inverse() * X_FM * x.X_MB;  // the tracked pose, slightly off
+    Eigen::Matrix<double, 6, 1> r, rp, rm;
+    Eigen::Matrix<double, 6, 14> J;
+    ASSERT_TRUE(ClockFitResidual(curve, x, t_mid, t, X_TB, r, &J));
+    for (int k = 0; k < 14; ++k) {
+      const double h = k == kDriftColumn ? 1e-8 : 1e-6;  // the drift multiplies seconds
+      Eigen::Matrix<double, 14, 1> d = Eigen::Matrix<double, 14, 1>::Zero();
+      d[k] = h;
+      ASSERT_TRUE(ClockFitResidual(curve, PerturbClockFitParameters(x, d), t_mid, t, X_TB, rp, nullptr));
+      ASSERT_TRUE(ClockFitResidual(curve, PerturbClockFitParameters(x, -d), t_mid, t, X_TB, rm, nullptr));
+      const Eigen::Matrix<double, 6, 1> numeric = (rp - rm) / (2 * h);
+      // First order in the residual rotation (~2e-4 rad): agreement to a few 1e-4 of the column's size.
+      EXPECT_LT((J.col(k) - numeric).norm(), 1e-3 * std::max(1.0, numeric.norm())) << "t " << t << " column " << k;
+    }
+  }
+}
+
 struct Take {
   SyntheticTrackerOptions tracker;
   PoseTrajectory commanded;
