@@ -81,8 +81,8 @@ struct ClockFitResult {
 };
 
 // The fit's model of one tracked frame, exposed so that its analytic Jacobian can be checked against finite
-// differences. Parameters are perturbed on the right: X_FT · exp(δ[0..5]) (rotation, translation), X_MB · exp(δ[6..11]),
-// offset_mid_s + δ[12], drift + δ[13].
+// differences. Parameters are perturbed on the right: X_FT · exp(δ[0..5]) (rotation, translation),
+// X_MB · exp(δ[6..11]), offset_mid_s + δ[12], drift + δ[13].
 struct ClockFitParameters {
   Eigen::Isometry3d X_FT = Eigen::Isometry3d::Identity(), X_MB = Eigen::Isometry3d::Identity();
   double offset_mid_s = 0, drift = 0;
