@@ -449,6 +449,7 @@ ClockFitResult FitClockAndRegistration(const RigidBodyTrack& track, const std::v
        "part of the measurand: a commanded reference cannot separate it"},
   };
   const double u_c = std::sqrt(u_a * u_a + u_interp * u_interp);
+  result.coverage_factor = options.coverage_factor;
   result.expanded_uncertainty_s = options.coverage_factor * u_c;
   result.identifiable = result.offset_information_share >= options.min_offset_information_share &&
                         std::isfinite(result.expanded_uncertainty_s);

@@ -66,6 +66,7 @@ struct ClockFitResult {
   double offset_sigma_curvature_s = 0, offset_sigma_bootstrap_s = 0;
   double offset_ci_s[2] = {0, 0};  // offset_mid ± k u_c (or the search window when not identifiable)
   double expanded_uncertainty_s = 0;
+  double coverage_factor = 2;  // k of the expanded uncertainty and of the intervals (ClockFitOptions)
   double crb_s = 0;           // Cramér-Rao bound of a delay: 1/sqrt(Σ |v/σ_p|² + |ω/σ_r|²) over the frames used
   double crb_position_only_s = 0;  // σ_p / sqrt(Σ |v|²)
   double offset_information_share = 0;

@@ -45,8 +45,9 @@ std::string ClockModelName(const ClockFitResult& c) {
 }
 
 json ClockJson(const ClockFitResult& c) {
-  // The k = 2 interval of one standard uncertainty alone (ms), shown beside the combined one.
-  const auto Around = [](double x_s, double u_s) { return json{(x_s - 2 * u_s) * 1e3, (x_s + 2 * u_s) * 1e3}; };
+  // The interval of one standard uncertainty alone (ms, same k), shown beside the combined one.
+  const double k = c.coverage_factor;
+  const auto Around = [k](double x_s, double u_s) { return json{(x_s - k * u_s) * 1e3, (x_s + k * u_s) * 1e3}; };
   json budget = json::array();
   for (const UncertaintySource& u : c.budget) {
     budget.push_back(json{{"source", u.name}, {"type", u.evaluation}, {"standard_uncertainty_ms",
@@ -57,7 +58,7 @@ json ClockJson(const ClockFitResult& c) {
               {"t_mid_s", c.t_mid_s},
               {"offset_ms", c.offset_mid_s * 1e3},
               {"expanded_uncertainty_ms", c.expanded_uncertainty_s * 1e3},
-              {"coverage_factor", 2},
+              {"coverage_factor", c.coverage_factor},
               {"interval_ms", {c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3}},
               {"sigma_bootstrap_ms", c.offset_sigma_bootstrap_s * 1e3},
               {"sigma_curvature_ms", c.offset_sigma_curvature_s * 1e3},
@@ -85,10 +86,10 @@ std::string ClockReportText(const ClockFitResult& c) {
   std::string out;
   std::snprintf(buf, sizeof buf,
                 "clock offset at mid-take (t_mocap = %.3f s): %.4f ms, 95 %% interval [%.4f, %.4f] ms "
-                "(U = %.4f ms, k = 2; bootstrap sigma %.4f ms, curvature sigma %.4f ms; bound sigma_tau %.4f ms)\n",
+                "(U = %.4f ms, k = %g; bootstrap sigma %.4f ms, curvature sigma %.4f ms; bound sigma_tau %.4f ms)\n",
                 c.t_mid_s, c.offset_mid_s * 1e3, c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3,
-                c.expanded_uncertainty_s * 1e3, c.offset_sigma_bootstrap_s * 1e3, c.offset_sigma_curvature_s * 1e3,
-                c.crb_s * 1e3);
+                c.expanded_uncertainty_s * 1e3, c.coverage_factor, c.offset_sigma_bootstrap_s * 1e3,
+                c.offset_sigma_curvature_s * 1e3, c.crb_s * 1e3);
   out += buf;
   if (!c.drift_considered) {
     std::snprintf(buf, sizeof buf, "clock drift: not estimated (the offset-only model was asked for)\n");
