@@ -128,6 +128,8 @@ RigidBodyTrack ReadRigidBodyTrack(MotiveReader& reader, const std::string& name)
   }
   if (track.size() == 0) throw std::runtime_error(reader.source_name() + ": no data rows after the header");
   if (rb >= 0 && quaternion_file) track.quaternion_sign_flips = file_sign_flips;
+  track.complete = reader.complete();
+  track.frames_in_header = reader.header().total_exported_frames;
   if (rb < 0) {
     // Body frame: origin at the markers' centroid in the first complete frame, axes parallel to the tracker's.
     std::size_t ref = track.size();
@@ -242,6 +244,8 @@ MotiveTakeSummary InspectMotiveTake(MotiveReader& reader) {
       }
     }
   }
+  s.complete = reader.complete();
+  s.frames_in_header = reader.header().total_exported_frames;
   for (std::size_t r = 0; r < nrb; ++r) {
     close_gap(r);
     s.rigid_bodies[r].mean_marker_error_mean_m =

@@ -27,6 +27,9 @@ struct RigidBodyTrack {
   int quaternion_sign_flips = 0;    // q → -q between consecutive present frames (harmless; undone on load)
   int frame_jumps = 0;              // frame number increased by more than 1 between rows
   double marker_fit_rms_m = 0;      // when built from markers: RMS residual of the per-frame rigid fits
+  // An excerpt: fewer rows than the header's 'Total Exported Frames' (frames_in_header; -1 when absent).
+  bool complete = true;
+  std::int64_t frames_in_header = -1;
 
   std::size_t size() const { return frame.size(); }
   std::size_t frames_present() const;
@@ -53,6 +56,9 @@ struct MotiveTakeSummary {
   std::int64_t frames = 0;       // data rows
   std::int64_t first_frame = 0, last_frame = 0;
   std::int64_t frame_jumps = 0;
+  // An excerpt: fewer rows than the header's 'Total Exported Frames' (frames_in_header; -1 when absent).
+  bool complete = true;
+  std::int64_t frames_in_header = -1;
   struct RigidBody {
     std::string name;
     GapSummary gaps;

@@ -409,10 +409,12 @@ void MotiveReader::ParseHeader() {
 bool MotiveReader::ReadFrame(MotiveRow& row) {
   for (;;) {
     if (!NextLine(row.line_)) {
-      if (header_.total_exported_frames >= 0 && frames_read_ != header_.total_exported_frames) {
+      // Fewer rows than the header's count is an excerpt (the first frames of a take, the header left as it was),
+      // read as it is: complete() says so. A row cut mid-line is refused where it is read (below).
+      if (header_.total_exported_frames >= 0 && frames_read_ > header_.total_exported_frames) {
         throw std::runtime_error(source_name_ + ": " + std::to_string(frames_read_) + " frames; the header's "
                                  "'Total Exported Frames' is " + std::to_string(header_.total_exported_frames) +
-                                 " (the file is cut short or was edited)");
+                                 " (more rows than the export wrote: the file was edited or spliced)");
       }
       return false;
     }

@@ -129,8 +129,13 @@ class MotiveReader {
   const MotiveLayout& layout() const { return layout_; }
   const std::string& source_name() const { return source_name_; }
 
-  // Reads the next data row; false at the end of the file. Throws on a malformed row (with its line number).
+  // Reads the next data row; false at the end of the file. Throws on a malformed row (with its line number), and at
+  // the end of a file holding more rows than its header's 'Total Exported Frames'.
   bool ReadFrame(MotiveRow& row);
+  // Rows read so far. After the last, complete() is false for an excerpt: fewer rows than the header's
+  // 'Total Exported Frames' (public exports are often the first frames of a take with the header left as it was).
+  std::int64_t frames_read() const { return frames_read_; }
+  bool complete() const { return header_.total_exported_frames < 0 || frames_read_ >= header_.total_exported_frames; }
 
   // A rigid body's pose in the tracker frame, if every needed cell is present. Quaternions are normalized.
   std::optional<Eigen::Isometry3d> RigidBodyPose(const MotiveRow& row, int rigid_body) const;

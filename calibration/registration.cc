@@ -167,20 +167,27 @@ HandEyeResult CalibrateTrackerToBase(const std::vector<Eigen::Isometry3d>& X_FM_
     if (nparams == 12) result.X_MB = result.X_MB * Exp(step.tail<6>());
     if (step.norm() < 1e-12) break;
   }
-  // Residuals on every pair.
+  ComputeRegistrationResiduals(X_FM_all, X_TB_all, result);
+  return result;
+}
+
+void ComputeRegistrationResiduals(const std::vector<Eigen::Isometry3d>& X_FM,
+                                  const std::vector<Eigen::Isometry3d>& X_TB, HandEyeResult& result) {
   const Eigen::Isometry3d X_MB_inv = result.X_MB.inverse();
   double sp = 0, sr = 0;
-  for (std::size_t i = 0; i < n_all; ++i) {
-    const Eigen::Matrix<double, 6, 1> r = Residual(result.X_FT, X_MB_inv, X_FM_all[i], X_TB_all[i], 1.0);
+  result.max_position_m = result.max_rotation_rad = 0;
+  for (std::size_t i = 0; i < X_FM.size(); ++i) {
+    const Eigen::Matrix<double, 6, 1> r = Residual(result.X_FT, X_MB_inv, X_FM[i], X_TB[i], 1.0);
     const double ep = r.head<3>().norm(), er = r.tail<3>().norm();
     sp += ep * ep;
     sr += er * er;
     result.max_position_m = std::max(result.max_position_m, ep);
     result.max_rotation_rad = std::max(result.max_rotation_rad, er);
   }
-  result.rms_position_m = std::sqrt(sp / static_cast<double>(n_all));
-  result.rms_rotation_rad = std::sqrt(sr / static_cast<double>(n_all));
-  return result;
+  const double n = static_cast<double>(std::max<std::size_t>(1, X_FM.size()));
+  result.rms_position_m = std::sqrt(sp / n);
+  result.rms_rotation_rad = std::sqrt(sr / n);
+  result.pairs = static_cast<int>(X_FM.size());
 }
 
 }  // namespace robossis::calibration

@@ -45,6 +45,10 @@ struct HandEyeResult {
 HandEyeResult CalibrateTrackerToBase(const std::vector<Eigen::Isometry3d>& X_FM,
                                      const std::vector<Eigen::Isometry3d>& X_TB, const HandEyeOptions& options = {});
 
+// The residual statistics (rms/max, pairs) of result's transforms on these pairs.
+void ComputeRegistrationResiduals(const std::vector<Eigen::Isometry3d>& X_FM,
+                                  const std::vector<Eigen::Isometry3d>& X_TB, HandEyeResult& result);
+
 // The ring pose in F predicted from a tracked body pose.
 inline Eigen::Isometry3d RingPoseFromTracked(const HandEyeResult& r, const Eigen::Isometry3d& X_TB) {
   return r.X_FT * X_TB * r.X_MB.inverse();

@@ -81,72 +81,6 @@ Pairs MakePairs(const RigidBodyTrack& track, const PoseTrajectory& reference, co
   return pairs;
 }
 
-// Gauss-Newton on (offset, drift) with the registration fixed: predicted ring positions against the reference
-// interpolated at the aligned times (rotation residuals weighted as in the registration).
-ClockModel RefineClock(const RigidBodyTrack& track, const PoseTrajectory& reference, const HandEyeResult& reg,
-                       ClockModel clock, bool estimate_drift, double w, const std::vector<std::uint8_t>& excluded) {
-  // Predicted ring poses (independent of the clock).
-  std::vector<std::size_t> idx;
-  for (std::size_t i = 0; i < track.size(); ++i) {
-    if (track.present[i] && !excluded[i]) idx.push_back(i);
-  }
-  const std::size_t max_frames = 20000;  // evenly subsampled on long takes
-  std::vector<std::size_t> use;
-  for (std::size_t k = 0; k < std::min(idx.size(), max_frames); ++k) {
-    use.push_back(idx.size() <= max_frames ? idx[k] : idx[k * (idx.size() - 1) / (max_frames - 1)]);
-  }
-  std::vector<Eigen::Isometry3d> pred;
-  const Eigen::Isometry3d X_MB_inv = reg.X_MB.inverse();
-  for (std::size_t i : use) {
-    Eigen::Isometry3d X_TB = Eigen::Isometry3d::Identity();
-    X_TB.linear() = track.q_TB[i].toRotationMatrix();
-    X_TB.translation() = track.p_TB[i];
-    pred.push_back(reg.X_FT * X_TB * X_MB_inv);
-  }
-  const double t_mid = track.t_s.empty() ? 0.0 : 0.5 * (track.t_s.front() + track.t_s.back());
-  auto residual = [&](const ClockModel& c, std::size_t k, Eigen::Matrix<double, 6, 1>& r) {
-    Eigen::Vector3d p;
-    Eigen::Quaterniond q;
-    if (!InterpolatePose(reference, c.ToReference(track.t_s[use[k]]), p, q)) return false;
-    r.head<3>() = pred[k].translation() - p;
-    r.tail<3>() = w * RotationVector(pred[k].linear() * q.toRotationMatrix().transpose());
-    return true;
-  };
-  for (int iter = 0; iter < 10; ++iter) {
-    // Parameters: offset and (drift about the middle of the take, so the two are decorrelated).
-    const int np = estimate_drift ? 2 : 1;
-    Eigen::Matrix2d JtJ = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d Jtr = Eigen::Vector2d::Zero();
-    const double h_off = 1e-4;  // s: a central difference over the interpolation, larger than the sample jitter
-    for (std::size_t k = 0; k < use.size(); ++k) {
-      Eigen::Matrix<double, 6, 1> r0, rp, rm;
-      if (!residual(clock, k, r0)) continue;
-      Eigen::Matrix<double, 6, 2> J = Eigen::Matrix<double, 6, 2>::Zero();
-      ClockModel cp = clock, cm = clock;
-      cp.offset_s += h_off;
-      cm.offset_s -= h_off;
-      if (!residual(cp, k, rp) || !residual(cm, k, rm)) continue;
-      J.col(0) = (rp - rm) / (2 * h_off);
-      // d t_ref / d drift = t_mocap; drift is parameterized about t_mid: offset' = offset - drift * t_mid.
-      J.col(1) = J.col(0) * (track.t_s[use[k]] - t_mid);
-      JtJ.noalias() += J.transpose() * J;
-      Jtr.noalias() += J.transpose() * r0;
-    }
-    Eigen::Vector2d step = Eigen::Vector2d::Zero();
-    if (np == 2) {
-      step = JtJ.ldlt().solve(-Jtr);
-    } else if (JtJ(0, 0) > 0) {
-      step[0] = -Jtr[0] / JtJ(0, 0);
-    }
-    if (!step.allFinite()) break;
-    step[0] = std::clamp(step[0], -0.05, 0.05);  // one iteration moves at most 50 ms
-    clock.offset_s += step[0] - step[1] * t_mid;
-    clock.drift += step[1];
-    if (std::abs(step[0]) < 1e-7 && std::abs(step[1]) < 1e-10) break;
-  }
-  return clock;
-}
-
 }  // namespace
 
 TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTrajectory& reference,
@@ -156,6 +90,8 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
   result.pose_source = track.source;
   result.quaternion_sign_flips = track.quaternion_sign_flips;
   result.frame_jumps = track.frame_jumps;
+  result.complete = track.complete;
+  result.frames_in_header = track.frames_in_header;
   // Gaps in the rigid body (frame-number jumps count as missing frames).
   {
     std::int64_t run = 0;
@@ -216,7 +152,7 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
     }
     return changed;
   };
-  for (int round = 0; round < std::max(1, options.alternations); ++round) {
+  {
     Pairs pairs = MakePairs(track, reference, clock, excluded, nullptr, stride);
     if (pairs.index.size() < 10) {
       throw std::runtime_error("only " + std::to_string(pairs.index.size()) +
@@ -229,9 +165,17 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
       if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after excluding orientation flips");
       reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
     }
-    clock = RefineClock(track, reference, reg, clock, options.estimate_drift,
-                        options.hand_eye.rotation_weight_m_per_rad, excluded);
   }
+  // One fit of the transforms and the clock from there; again if it reveals flips the coarse clock hid.
+  auto fit = [&] {
+    result.clock_fit = FitClockAndRegistration(track, excluded, reference, reg, clock, options.clock_fit);
+    clock = result.clock_fit.clock;
+    reg.X_FT = result.clock_fit.X_FT;
+    reg.X_MB = result.clock_fit.X_MB;
+  };
+  reg.method += ", then one fit with the clock";
+  fit();
+  if (flag_flips(MakePairs(track, reference, clock, excluded, nullptr))) fit();
   // The window is a promise of the options ("searched only within"): a refinement that ends outside it is not
   // an offset within the window, and no clamped value would be the fit's.
   if (options.offset_given && !(std::fabs(clock.offset_s - options.offset_s) <= options.offset_window_s)) {
@@ -242,10 +186,9 @@ TrackingEvalResult EvaluateTracking(const RigidBodyTrack& track, const PoseTraje
                   clock.offset_s, options.offset_s, options.offset_window_s);
     throw std::runtime_error(buf);
   }
-  flag_flips(MakePairs(track, reference, clock, excluded, nullptr));  // on every frame, before the final fit
   const Pairs pairs = MakePairs(track, reference, clock, excluded, &result.excluded);
   if (pairs.index.size() < 10) throw std::runtime_error("too few frames left after alignment");
-  reg = CalibrateTrackerToBase(pairs.X_FM, pairs.X_TB, options.hand_eye);
+  ComputeRegistrationResiduals(pairs.X_FM, pairs.X_TB, reg);
   if (!(reg.rms_position_m <= options.max_registration_rms_m) ||
       !(reg.rms_rotation_rad <= options.max_registration_rms_rad)) {
     char buf[512];

@@ -1,11 +1,13 @@
 #pragma once
 // Tracking-accuracy evaluation (paper §VII-A, Fig. 14): a tracked rigid body against a commanded trajectory.
 // Steps: coarse clock offset by speed correlation → registration (tracker→robot base, marker→ring offset) →
-// refinement of clock offset and drift on the registered residual → orientation-flip exclusion → errors.
+// one fit of both transforms with the clock offset and drift (calibration/clock_fit.h) → orientation-flip exclusion
+// → errors.
 
 #include <string>
 #include <vector>
 
+#include "calibration/clock_fit.h"
 #include "calibration/mocap_track.h"
 #include "calibration/registration.h"
 #include "calibration/time_alignment.h"
@@ -23,7 +25,6 @@ struct ErrorStats {
 ErrorStats ComputeStats(std::vector<double> values);
 
 struct TrackingEvalOptions {
-  bool estimate_drift = true;
   // A frame whose orientation differs from the registered command by more than this is a marker-labelling flip
   // and is excluded. Assumption: 10°, two orders of magnitude above the paper's 0.07° mean error.
   double flip_threshold_rad = 0.174533;
@@ -34,7 +35,7 @@ struct TrackingEvalOptions {
   double offset_window_s = 2.0;
   HandEyeOptions hand_eye;
   SpeedCorrelationOptions correlation;
-  int alternations = 3;  // registration ↔ clock refinement rounds
+  ClockFitOptions clock_fit;  // the one fit of transforms and clock (drift allowed unless clock_fit.allow_drift)
   // Plausibility: a registration whose residual exceeds these fails the evaluation, because a rigid transform that
   // fits this badly means the data is not what it claims (length units off by 1000, another rotation order or
   // type, another rigid body or reference). Assumption: 2 mm and 5°, four times the worst residual of an optical
@@ -52,6 +53,7 @@ struct ExclusionCounts {
 
 struct TrackingEvalResult {
   ClockModel clock;
+  ClockFitResult clock_fit;  // the clock's measurand, interval, bound, drift choice and the fit
   double speed_correlation = 0;
   HandEyeResult registration;
   // Per used frame, in the robot base frame F (SI):
@@ -68,6 +70,8 @@ struct TrackingEvalResult {
   GapSummary gaps;
   int quaternion_sign_flips = 0;
   int frame_jumps = 0;
+  bool complete = true;              // false for an excerpt (fewer rows than the header's count)
+  std::int64_t frames_in_header = -1;
   ErrorStats mean_marker_error;  // m, over frames that carry it
   std::string pose_source;
 };

@@ -39,12 +39,85 @@ std::string Tum(const std::vector<double>& t, const std::vector<Eigen::Isometry3
 
 }  // namespace
 
+std::string ClockModelName(const ClockFitResult& c) {
+  if (!c.drift_considered) return "offset only (drift not estimated)";
+  return c.drift_selected ? "offset + drift (BIC)" : "offset only (BIC: no drift)";
+}
+
+json ClockJson(const ClockFitResult& c) {
+  // The interval of one standard uncertainty alone (ms, same k), shown beside the combined one.
+  const double k = c.coverage_factor;
+  const auto Around = [k](double x_s, double u_s) { return json{(x_s - k * u_s) * 1e3, (x_s + k * u_s) * 1e3}; };
+  json budget = json::array();
+  for (const UncertaintySource& u : c.budget) {
+    budget.push_back(json{{"source", u.name}, {"type", u.evaluation}, {"standard_uncertainty_ms",
+                          u.standard_uncertainty_s * 1e3}, {"note", u.note}});
+  }
+  return json{{"measurand",
+               "t_reference - t_mocap at the take's middle (t_mocap = t_mid_s), through the ring's motion"},
+              {"t_mid_s", c.t_mid_s},
+              {"offset_ms", c.offset_mid_s * 1e3},
+              {"expanded_uncertainty_ms", c.expanded_uncertainty_s * 1e3},
+              {"coverage_factor", c.coverage_factor},
+              {"interval_ms", {c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3}},
+              {"sigma_bootstrap_ms", c.offset_sigma_bootstrap_s * 1e3},
+              {"sigma_curvature_ms", c.offset_sigma_curvature_s * 1e3},
+              {"interval_bootstrap_ms", Around(c.offset_mid_s, c.offset_sigma_bootstrap_s)},
+              {"interval_curvature_ms", Around(c.offset_mid_s, c.offset_sigma_curvature_s)},
+              {"crb_ms", c.crb_s * 1e3},
+              {"crb_position_only_ms", c.crb_position_only_s * 1e3},
+              {"budget", budget},
+              {"drift_selected", c.drift_selected},
+              {"drift_ppm_if_fitted", c.drift * 1e6},
+              {"drift_interval_ppm", {c.drift_ci[0] * 1e6, c.drift_ci[1] * 1e6}},
+              {"delta_bic", c.delta_bic},
+              {"identifiable", c.identifiable},
+              {"offset_information_share", c.offset_information_share},
+              {"warning", c.warning.empty() ? json(nullptr) : json(c.warning)},
+              {"frames", c.frames},
+              {"bootstrap_blocks", c.blocks},
+              {"block_s", c.block_s},
+              {"sigma_position_mm", c.sigma_position_m * 1e3},
+              {"sigma_rotation_deg", c.sigma_rotation_rad * kRadToDeg}};
+}
+
+std::string ClockReportText(const ClockFitResult& c) {
+  char buf[1024];
+  std::string out;
+  std::snprintf(buf, sizeof buf,
+                "clock offset at mid-take (t_mocap = %.3f s): %.4f ms, 95 %% interval [%.4f, %.4f] ms "
+                "(U = %.4f ms, k = %g; bootstrap sigma %.4f ms, curvature sigma %.4f ms; bound sigma_tau %.4f ms)\n",
+                c.t_mid_s, c.offset_mid_s * 1e3, c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3,
+                c.expanded_uncertainty_s * 1e3, c.coverage_factor, c.offset_sigma_bootstrap_s * 1e3,
+                c.offset_sigma_curvature_s * 1e3, c.crb_s * 1e3);
+  out += buf;
+  if (!c.drift_considered) {
+    std::snprintf(buf, sizeof buf, "clock drift: not estimated (the offset-only model was asked for)\n");
+  } else if (c.drift_selected) {
+    std::snprintf(buf, sizeof buf, "clock drift: %.2f ppm [%.2f, %.2f] (selected by BIC, dBIC %.1f)\n", c.drift * 1e6,
+                  c.drift_ci[0] * 1e6, c.drift_ci[1] * 1e6, c.delta_bic);
+  } else {
+    std::snprintf(buf, sizeof buf, "clock drift: no drift (BIC, dBIC %.1f); |drift| <= %.2f ppm\n", c.delta_bic,
+                  c.drift_bound * 1e6);
+  }
+  out += buf;
+  if (!c.warning.empty()) out += "warning: " + c.warning + "\n";
+  return out;
+}
+
 json TrackingSummaryJson(const TrackingEvalResult& r) {
   json j;
   j["translation_error_mm"] = ErrorJson(r.translation, r.translation_axis, kMToMm);
   j["rotation_error_deg"] = ErrorJson(r.rotation, r.rotation_axis, kRadToDeg);
   j["time_offset_s"] = r.clock.offset_s;
-  j["clock_drift_ppm"] = r.clock.drift * 1e6;
+  const ClockFitResult& c = r.clock_fit;
+  j["clock_offset_ms"] = c.offset_mid_s * 1e3;
+  j["clock_offset_ci_ms"] = {c.offset_ci_s[0] * 1e3, c.offset_ci_s[1] * 1e3};
+  j["clock_offset_crb_ms"] = c.crb_s * 1e3;
+  j["clock_drift_ppm"] = c.drift_selected ? json(c.drift * 1e6) : json(nullptr);
+  j["clock_drift_bound_ppm"] = c.drift_considered ? json(c.drift_bound * 1e6) : json(nullptr);
+  j["clock_model"] = ClockModelName(c);
+  j["clock"] = ClockJson(c);
   j["speed_correlation"] = r.speed_correlation;
   j["registration_rms_mm"] = r.registration.rms_position_m * kMToMm;
   j["registration_rms_deg"] = r.registration.rms_rotation_rad * kRadToDeg;
@@ -66,6 +139,8 @@ json TrackingSummaryJson(const TrackingEvalResult& r) {
                {"gaps", r.gaps.gaps},
                {"longest_gap_frames", r.gaps.longest_gap_frames},
                {"frame_jumps", r.frame_jumps},
+               {"complete", r.complete},
+               {"frames_in_header", r.frames_in_header >= 0 ? json(r.frames_in_header) : json(nullptr)},
                {"quaternion_sign_flips", r.quaternion_sign_flips},
                {"orientation_flips", r.excluded.orientation_flip}};
   quality["mean_marker_error_mm"] =
@@ -124,6 +199,8 @@ json TakeSummaryJson(const MotiveTakeSummary& s) {
   j["first_frame"] = s.first_frame;
   j["last_frame"] = s.last_frame;
   j["frame_jumps"] = s.frame_jumps;
+  j["complete"] = s.complete;
+  j["frames_in_header"] = s.frames_in_header >= 0 ? json(s.frames_in_header) : json(nullptr);
   j["duration_s"] = s.frames > 0 ? static_cast<double>(s.last_frame - s.first_frame) / s.header.export_rate_hz : 0.0;
   return j;
 }

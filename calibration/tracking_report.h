@@ -12,9 +12,16 @@
 namespace robossis::calibration {
 
 // translation_error_mm / rotation_error_deg: {mean, median, rmse, std, p95, max, per_axis: {x, y, z}} where each
-// per-axis entry holds the same statistics of |component|; plus time_offset_s, registration_rms_mm,
-// frames_used, frames_excluded and the data-quality section.
+// per-axis entry holds the same statistics of |component|; plus time_offset_s, the clock (clock_offset_ms at
+// mid-take, clock_offset_ci_ms, clock_offset_crb_ms, clock_drift_ppm or null, clock_drift_bound_ppm, clock_model,
+// clock: {...}), registration_rms_mm, frames_used, frames_excluded and the data-quality section.
 nlohmann::ordered_json TrackingSummaryJson(const TrackingEvalResult& result);
+
+// The clock's measurand, interval (k = 2), bound, budget, drift choice and identifiability: summary.json's "clock",
+// and the report's lines.
+nlohmann::ordered_json ClockJson(const ClockFitResult& clock);
+std::string ClockModelName(const ClockFitResult& clock);
+std::string ClockReportText(const ClockFitResult& clock);
 
 // t_s (reference clock), reference and tracked pose (mm, deg RPY), errors per axis and norms (mm, deg).
 std::string TrackingErrorsCsv(const TrackingEvalResult& result);

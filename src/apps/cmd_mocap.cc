@@ -38,6 +38,10 @@ void PrintInspectText(const json& doc) {
   }
   std::cout << "markers: " << doc["markers"].get<int>() << ", frame-number jumps: " << doc["frame_jumps"].get<long long>()
             << "\n";
+  if (!doc["complete"].get<bool>()) {
+    std::cout << "excerpt: " << doc["frames"].get<long long>() << " frames read of the header's "
+              << doc["frames_in_header"].get<long long>() << " ('Total Exported Frames'); read as it is\n";
+  }
 }
 
 }  // namespace
@@ -198,7 +202,7 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
     const calibration::RigidBodyTrack track = calibration::ReadRigidBodyTrack(o->mocap, o->rigid_body);
     const calibration::PoseTrajectory reference = calibration::ReadReferenceTrajectory(o->reference);
     calibration::TrackingEvalOptions options;
-    options.estimate_drift = !o->no_drift;
+    options.clock_fit.allow_drift = !o->no_drift;
     options.flip_threshold_rad = DegToRad(o->flip_threshold_deg);
     if (offset_opt->count() > 0) {
       options.offset_given = true;
@@ -206,6 +210,11 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
       options.offset_window_s = o->offset_window_s;
     }
     const calibration::TrackingEvalResult result = calibration::EvaluateTracking(track, reference, options);
+    if (!track.complete) {
+      std::cerr << "robossis: " << o->mocap << " is an excerpt: " << track.size() << " frames read of the header's "
+                << track.frames_in_header << "\n";
+    }
+    if (!result.clock_fit.warning.empty()) std::cerr << "robossis: warning: " << result.clock_fit.warning << "\n";
     StagedOutputDir out(o->out, output);
     const json inputs{{"mocap", o->mocap}, {"rigid_body", o->rigid_body}, {"reference", o->reference}};
     WriteTrackingOutputs(result, inputs, out, "");
@@ -226,8 +235,9 @@ void RegisterTrackEvalCommand(CLI::App& app, const AppContext& context) {
       std::cout << "translation error (mm): mean " << s["translation_error_mm"]["mean"].get<double>() << ", max "
                 << s["translation_error_mm"]["max"].get<double>() << "; rotation error (deg): mean "
                 << s["rotation_error_deg"]["mean"].get<double>() << ", max "
-                << s["rotation_error_deg"]["max"].get<double>() << "\nclock offset " << result.clock.offset_s
-                << " s, registration RMS " << s["registration_rms_mm"].get<double>() << " mm, frames used "
+                << s["rotation_error_deg"]["max"].get<double>() << "\n"
+                << calibration::ClockReportText(result.clock_fit) << "registration RMS "
+                << s["registration_rms_mm"].get<double>() << " mm, frames used "
                 << s["frames_used"].get<long long>() << ", excluded " << s["frames_excluded"].get<long long>()
                 << "\nwritten to " << o->out << "\n";
     }

@@ -45,6 +45,30 @@ TEST(MocapCliTest, InspectJsonOnRealExport) {
   EXPECT_EQ(j["markers"], 4);
 }
 
+// Public exports are often the first frames of a take with the header's count left as it was: read them, say so on
+// one line, and mark the summary. A row cut mid-line stays an error naming the line.
+TEST(MocapCliTest, InspectReadsAnExcerptAndSaysSo) {
+  const fs::path dir = TempDir("excerpt");
+  std::ifstream in(Data("timeanddoctor_parse_optitrack_csv_test.csv"), std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t row = text.find("\n300,");
+  std::ofstream(dir / "excerpt.csv", std::ios::binary) << text.substr(0, row + 1);
+  std::ofstream(dir / "cut.csv", std::ios::binary) << text.substr(0, row + 30);
+  const CommandRun json = Robossis("mocap inspect " + (dir / "excerpt.csv").string() + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  const auto j = nlohmann::json::parse(json.output);
+  EXPECT_EQ(j["frames"], 300);
+  EXPECT_EQ(j["complete"], false);
+  EXPECT_EQ(j["frames_in_header"], 499);
+  const CommandRun plain = Robossis("mocap inspect " + (dir / "excerpt.csv").string());
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_THAT(plain.output, HasSubstr("excerpt: 300 frames read of the header's 499"));
+  const CommandRun cut = Robossis("mocap inspect " + (dir / "cut.csv").string());
+  EXPECT_NE(cut.exit_code, 0);
+  EXPECT_THAT(cut.output, HasSubstr("line 308: the last row has"));
+  fs::remove_all(dir);
+}
+
 TEST(MocapCliTest, InspectRejectsAssetlessTakeWithOneLine) {
   const CommandRun run = Robossis("mocap inspect " + Data("ha5dzs_optitrack-motive-file-converter_test_default.csv"));
   EXPECT_NE(run.exit_code, 0);

@@ -124,9 +124,31 @@ TEST(MotiveCsvTest, RejectsTruncatedRowMidNumber) {
 TEST(MotiveCsvTest, RejectsFileCutInsideTheLastRow) {
   const std::string text = ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv"));
   const std::size_t row = text.find("\n3,0.025000");
-  EXPECT_THAT(Error(text.substr(0, row + 60)), HasSubstr("the file is truncated"));
-  // Cut at a line end: fewer frames than the header's 'Total Exported Frames', an error too.
-  EXPECT_THAT(Error(text.substr(0, row + 1)), HasSubstr("3 frames; the header's 'Total Exported Frames' is 499"));
+  EXPECT_THAT(Error(text.substr(0, row + 60)), HasSubstr("line 11: the last row has"));
+}
+
+// An excerpt (the first frames of a take, the header's 'Total Exported Frames' left as it was) is a normal file:
+// read whole, and marked incomplete with the header's count.
+TEST(MotiveCsvTest, ReadsAnExcerptAndMarksItIncomplete) {
+  const std::string text = ReadTextFile(DataFile("timeanddoctor_parse_optitrack_csv_test.csv"));
+  const std::string excerpt = text.substr(0, text.find("\n3,0.025000") + 1);
+  EXPECT_EQ(Error(excerpt), "");
+  MotiveReader reader(excerpt, "excerpt.csv");
+  const MotiveTakeSummary s = InspectMotiveTake(reader);
+  EXPECT_EQ(s.frames, 3);
+  EXPECT_FALSE(s.complete);
+  EXPECT_EQ(s.frames_in_header, 499);
+  MotiveReader again(excerpt, "excerpt.csv");
+  const RigidBodyTrack track = ReadRigidBodyTrack(again, "ernesto_body");
+  EXPECT_EQ(track.size(), 3u);
+  EXPECT_FALSE(track.complete);
+  // The whole file is complete.
+  MotiveReader whole(text, "whole.csv");
+  EXPECT_TRUE(InspectMotiveTake(whole).complete);
+  // More rows than the header says the export wrote is not an excerpt: an edited or spliced file.
+  std::string more = text;
+  more.replace(more.find("Total Exported Frames,499"), 25, "Total Exported Frames,400");
+  EXPECT_THAT(Error(more), HasSubstr("499 frames; the header's 'Total Exported Frames' is 400"));
 }
 
 TEST(MotiveCsvTest, RejectsNonIncreasingFrames) {
@@ -257,15 +279,13 @@ TEST(MotiveCsvTest, CountsGapsAndFrameJumps) {
   std::string text = out.str();
   const std::size_t a = text.find("\r\n100,"), b = text.find("\r\n110,");
   text.erase(a, b - a);
-  // An excerpt states the frames it holds (a count that disagrees with the rows is an edited or cut file).
-  const std::string count = "Total Exported Frames," + std::to_string(rec.frames);
-  if (const std::size_t at = text.find(count); at != std::string::npos) {
-    text.replace(at, count.size(), "Total Exported Frames," + std::to_string(rec.frames - 10));
-  }
+  // The header's count stays as the export wrote it: the rows removed make this file incomplete.
   MotiveReader reader(text, "jump.csv");
   const MotiveTakeSummary s = InspectMotiveTake(reader);
   EXPECT_EQ(s.frames, rec.frames - 10);
   EXPECT_EQ(s.frame_jumps, 1);
+  EXPECT_FALSE(s.complete);
+  EXPECT_EQ(s.frames_in_header, rec.frames);
   EXPECT_EQ(s.rigid_bodies[0].gaps.frames_present, rec.frames - rec.frames_occluded - 10);
   EXPECT_GE(s.rigid_bodies[0].gaps.gaps, rec.gaps);  // the jump is one more gap unless it touches an occlusion
   EXPECT_LE(s.rigid_bodies[0].gaps.gaps, rec.gaps + 1);
