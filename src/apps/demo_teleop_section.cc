@@ -11,6 +11,12 @@
 
 namespace robossis::apps {
 
+std::string OverrunsByCause(const nlohmann::ordered_json& summary, const std::string& loop) {
+  const auto count = [&](const std::string& key) { return std::to_string(summary[loop + key].get<std::uint64_t>()); };
+  return count("_overruns") + " of " + count("_ticks") + " ticks (late wake-up " + count("_overruns_late_wake") +
+         ", long tick " + count("_overruns_long_tick") + ")";
+}
+
 void WriteTeleopSection(DemoContext& demo) {
   demo.Progress("teleop: fast hand -> leader (proxy-safe walls) -> Bullet follower, real time");
   const robot::RsrModel rsr = demo.app.LoadRsr();
@@ -41,10 +47,14 @@ void WriteTeleopSection(DemoContext& demo) {
               << FormatFixed(request.duration_s, 0)
               << " s: the synthetic fast hand (250 mm/s, ±60°, far outside the workspace) through the walls into the "
                  "Bullet follower. Caps raised to 100 mm/s and 20°/s so that the set-point reaches the walls within "
-                 "the recording. Measured on a shared, loaded machine.\n\n"
+                 "the recording. Measured on a shared, loaded machine. An overrun is a missed deadline, counted "
+                 "under its cause: a late wake-up (the loop's thread was not run at its deadline: scheduling) or a "
+                 "long tick (the tick's own work, with any preemption inside it, passed its period).\n\n"
               << "| quantity | value |\n|---|---|\n"
               << "| leader / follower ticks | " << s["leader_ticks"] << " / " << s["follower_ticks"] << " |\n"
-              << "| leader / follower overruns | " << s["leader_overruns"] << " / " << s["follower_overruns"] << " |\n"
+              << "| overruns of the leader's loop | " << OverrunsByCause(s, "leader") << " |\n"
+              << "| overruns of the follower's loop | " << OverrunsByCause(s, "follower") << " |\n"
+              << "| overruns of the simulated robot's own loop | " << OverrunsByCause(s, "plant") << " |\n"
               << "| period jitter p99 leader / follower (µs) | " << num("leader_period_jitter_us_p99") << " / "
               << num("follower_period_jitter_us_p99") << " |\n"
               << "| follower limit violations (measured joints, cones included) | " << s["follower_limit_violations"]

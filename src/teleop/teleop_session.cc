@@ -331,6 +331,8 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     const rt::LoopStats& ls = run.stats[next++];
     end.leader_loop_ticks = ls.ticks;
     end.leader_overruns = ls.overruns;
+    end.leader_overruns_late_wake = ls.overruns_late_wake;
+    end.leader_overruns_long_tick = ls.overruns_long_tick;
     end.leader_period_jitter_us_p99 = ls.period_jitter.PercentileUs(0.99);
     end.leader_period_jitter_us_max = ls.period_jitter.max_us();
     end.leader_wake_latency_us_p99 = ls.wake_latency.PercentileUs(0.99);
@@ -343,6 +345,8 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     const FollowerCounters& c = follower->unit->counters();
     end.follower_loop_ticks = fs.ticks;
     end.follower_overruns = fs.overruns;
+    end.follower_overruns_late_wake = fs.overruns_late_wake;
+    end.follower_overruns_long_tick = fs.overruns_long_tick;
     end.follower_period_jitter_us_p99 = fs.period_jitter.PercentileUs(0.99);
     end.follower_period_jitter_us_max = fs.period_jitter.max_us();
     end.follower_wake_latency_us_p99 = fs.wake_latency.PercentileUs(0.99);
@@ -350,6 +354,13 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     end.setpoints_accepted = c.setpoints_accepted;
     end.setpoints_rejected = c.setpoints_rejected;
     end.follower_records_dropped = c.records_dropped;
+    if (next < run.stats.size()) {  // the plant's own loop, scheduled after the follower's
+      const rt::LoopStats& ps = run.stats[next++];
+      end.plant_loop_ticks = ps.ticks;
+      end.plant_overruns = ps.overruns;
+      end.plant_overruns_late_wake = ps.overruns_late_wake;
+      end.plant_overruns_long_tick = ps.overruns_long_tick;
+    }
   }
   if (recorder_error.empty()) {
     try {
