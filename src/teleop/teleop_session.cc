@@ -437,7 +437,7 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
 
 TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
                           const rt::MonotonicClock& clock, const std::filesystem::path& log_file,
-                          const std::atomic<bool>* stop) {
+                          const std::atomic<bool>* stop, const std::function<void()>& running) {
   CheckRequest(request, Units::kFollower);
   TeleopRequest real = request;
   real.real_clock = true;
@@ -446,7 +446,12 @@ TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup
   for (const StateCommandMessage& command : StartCommands(request)) local.SendLocal(command);
   RunClock run_clock;
   run_clock.real = &clock;
-  return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, {});
+  bool announced = false;
+  return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, [&](double) {
+    if (announced || !running) return;
+    announced = true;
+    running();
+  });
 }
 
 TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file) {
