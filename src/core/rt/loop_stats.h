@@ -46,6 +46,9 @@ class LatencyHistogram {
 //   kLongTick  the tick's own duration (start to end, on the loop's clock) passed the period: it would have missed
 //              even on time. On a real clock that duration includes any preemption in the middle of the tick.
 enum class OverrunCause { kLateWake, kLongTick };
+inline OverrunCause CauseOfOverrun(std::int64_t tick_duration_ns, std::int64_t period_ns) noexcept {
+  return tick_duration_ns > period_ns ? OverrunCause::kLongTick : OverrunCause::kLateWake;
+}
 
 struct LoopStats {
   std::int64_t period_ns = 0;
@@ -78,7 +81,8 @@ struct LoopStats {
     if (end_ns > next) {
       const std::int64_t missed = (end_ns - next) / period_ns + 1;
       overruns += static_cast<std::uint64_t>(missed);
-      (duration > period_ns ? overruns_long_tick : overruns_late_wake) += static_cast<std::uint64_t>(missed);
+      const bool long_tick = CauseOfOverrun(duration, period_ns) == OverrunCause::kLongTick;
+      (long_tick ? overruns_long_tick : overruns_late_wake) += static_cast<std::uint64_t>(missed);
       next += missed * period_ns;
     }
     return next;
