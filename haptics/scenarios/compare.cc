@@ -228,22 +228,30 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
       if (output.saturated) m.saturation_time_s += dt;
       if (output.status == HapticStatus::kDeepPenetration) ++m.deep_penetration_ticks;
       if (output.status == HapticStatus::kFault) ++m.fault_ticks;
+      // What only the trace's rows and the wall onset use is computed for those ticks alone (a bisection and an IK
+      // per tick otherwise; the trace keeps every trace_decimation-th tick).
+      const bool kept = settings.keep_trace && k % settings.trace_decimation == 0;
       if (e.is_push) {
         rec.is_push = true;
         rec.push_rotational = e.rotational;
-        const double s = SignedDistanceAlongPush(rsr, e, X_FM);
-        rec.push_signed = e.rotational ? RadToDeg(s) : MToMm(s);
         const bool strong = e.rotational ? output.tau_O.norm() >= kOnsetTorqueNm : output.f_O.norm() >= kOnsetForceN;
-        // Only while pushing in (the first crossing of the threshold), not on the way back.
-        if (strong && !onset_seen) {
+        // The onset only while pushing in (the first crossing of the threshold), not on the way back.
+        const bool onset = strong && !onset_seen;
+        if (onset || kept) {
+          const double s = SignedDistanceAlongPush(rsr, e, X_FM);
+          rec.push_signed = e.rotational ? RadToDeg(s) : MToMm(s);
+        }
+        if (onset) {
           onset_seen = true;
-          double& onset = e.rotational ? m.wall_onset_deg : m.wall_onset_mm;
-          onset = std::min(onset, rec.push_signed);
+          double& wall_onset = e.rotational ? m.wall_onset_deg : m.wall_onset_mm;
+          wall_onset = std::min(wall_onset, rec.push_signed);
         }
       }
-      const robot::RsrIkResult ik = robot::CalcInverseKinematics(rsr, X_FM);
-      rec.stroke_mm = ik.joints.d_m * kMToMm;
-      rec.cone_deg = ik.joints.cone_rad * kRadToDeg;
+      if (kept) {
+        const robot::RsrIkResult ik = robot::CalcInverseKinematics(rsr, X_FM);
+        rec.stroke_mm = ik.joints.d_m * kMToMm;
+        rec.cone_deg = ik.joints.cone_rad * kRadToDeg;
+      }
 
       // Physics over the tick with the displayed wrench held.
       const HandTarget target = TargetAt(e, map, t);
@@ -259,7 +267,7 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
         energy_generated += contact_energy_max;
       }
       in_contact = contact;
-      if (settings.keep_trace && k % settings.trace_decimation == 0) run.trace.push_back(rec);
+      if (kept) run.trace.push_back(rec);
       if (progress && k % 2000 == 0) progress((elapsed_s + t) / total_s);
     }
     if (in_contact) energy_generated += contact_energy_max;

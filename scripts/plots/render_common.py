@@ -2,17 +2,38 @@
 import csv
 
 
+TEXT_COLUMNS = ("status", "penetration_counted_as")
+
+
+class TraceColumns(dict):
+    """A trace's columns by name, each converted on first use (numbers as floats, TEXT_COLUMNS as text): a figure
+    reads about a dozen of the trace's 42 columns, and converting all of them took most of a figure's time."""
+
+    def __init__(self, header, rows):
+        super().__init__()
+        self._index = {key: i for i, key in enumerate(header)}
+        self._rows = rows
+
+    def __missing__(self, key):
+        i = self._index[key]  # KeyError for a column the trace does not have
+        column = [r[i] for r in self._rows] if key in TEXT_COLUMNS else [float(r[i]) for r in self._rows]
+        self[key] = column
+        return column
+
+    def __contains__(self, key):
+        return key in self._index
+
+    def keys(self):
+        return self._index.keys()
+
+
 def read_trace(path):
-    """Columns of a trace CSV as a dict of lists (numbers as floats, 'status' and 'penetration_counted_as' as text)."""
+    """Columns of a trace CSV (see TraceColumns)."""
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    cols = {}
-    for key in rows[0].keys() if rows else []:
-        if key in ("status", "penetration_counted_as"):
-            cols[key] = [r[key] for r in rows]
-        else:
-            cols[key] = [float(r[key]) for r in rows]
-    return cols
+        reader = csv.reader(f)
+        header = next(reader, [])
+        rows = list(reader)
+    return TraceColumns(header, rows)
 
 
 def norm3(cols, a, b, c):

@@ -66,6 +66,9 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
     result.runs.push_back(haptics::RunMethod(result.scenario, method, config, rsr, sigma7, settings, result.atlas));
     const std::string trace = request.prefix + "traces/" + method + ".csv";
     out.Write(trace, haptics::TraceCsv(result.runs.back()));
+    // The trace is in its file (the figures read it there); the summary and the table need the metrics alone. Held
+    // for every method until the scenario's end, the traces were about 80 MB of the demo's peak.
+    std::vector<haptics::TickRecord>().swap(result.runs.back().trace);
     traces += (traces.empty() ? "" : ",") + out.Path(trace).string();
     labels += (labels.empty() ? "" : ",") + method;
   }

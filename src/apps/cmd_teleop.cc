@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "src/apps/teleop_options.h"
 #include "src/core/child_process.h"
 #include "src/core/files.h"
+#include "src/core/parse.h"
 #include "src/core/rt/clock.h"
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
@@ -161,7 +163,7 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
 void RegisterLeader(CLI::App& app, const AppContext& context) {
   struct Options : TeleopCliOptions {
     link::LinkOptions link_options;
-    double wait_for_follower_s = 60;
+    std::optional<double> wait_for_follower_s;  // default: link.yaml's discovery.peer_wait_s
   };
   auto o = std::make_shared<Options>();
   o->link_options.role = link::Role::kLeader;
@@ -171,10 +173,10 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
   AddTeleopOptions(*cmd, *o, TeleopUnits::kLeader);
   AddLinkOptions(*cmd, o->link_options);
   cmd->add_option("--wait-for-follower-s", o->wait_for_follower_s,
-                  "How long to wait for an authenticated follower's state before the loop starts (no follower "
-                  "authenticated at all: the leader exits after link.yaml's discovery.peer_wait_s or --duration-s)")
-      ->check(CLI::Range(0.0, 3600.0))
-      ->capture_default_str();
+                  "How long to wait for a follower authenticated and heard before the loop starts, else exit naming "
+                  "the cause (default: link.yaml's discovery.peer_wait_s). The wait is part of --duration-s: the "
+                  "loop runs for what is left of it")
+      ->check(CLI::Range(0.0, 3600.0));
   cmd->callback([o, &context] {
     const OutputPolicy output = TeleopOutputPolicy(context, *o, o->link_options);
     output.CheckFolder("--out", o->out);
@@ -185,15 +187,24 @@ void RegisterLeader(CLI::App& app, const AppContext& context) {
     o->link_options.tuning = link::LinkTuning::FromYaml(context.ConfigPath("link.yaml"));
     link::DdsLeaderLink link(o->link_options);
     const auto wait_start = std::chrono::steady_clock::now();
-    // No follower authenticated within peer_wait_s (link.yaml), never longer than --duration-s: exit with the cause.
-    link.WaitForFollower(std::min(o->link_options.tuning.peer_wait_s, o->duration_s), o->wait_for_follower_s);
-    std::cerr << "leader: follower authenticated and heard after "
-              << std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count() << " s\n";
+    // One bound on the wait, within --duration-s: --duration-s bounds the whole run, the wait included.
+    const double wait_s = o->wait_for_follower_s.value_or(o->link_options.tuning.peer_wait_s);
+    link.WaitForFollower(std::min(wait_s, o->duration_s));
+    const double waited_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
+    std::cerr << "leader: follower authenticated and heard after " << waited_s << " s\n";
+    if (!(o->duration_s - waited_s > 0)) {
+      throw std::runtime_error("--duration-s " + FormatNumber(o->duration_s) + ": the follower was heard only after " +
+                               FormatNumber(waited_s, "%.1f") + " s, nothing is left for the loop");
+    }
+    inputs.request.duration_s = o->duration_s - waited_s;
     StopOnSignals();
     inputs.request.csv_dir = out.staging();
     teleop::TeleopOutputs outputs =
         teleop::RunLeader(inputs.request, inputs.setup, link, out.Path("session.rlog"), &g_stop);
     outputs.summary["link"] = link::ToJson(link.Statistics());
+    // Together --duration-s: the wait for the follower, then the loop.
+    outputs.summary["follower_wait_s"] = waited_s;
+    outputs.summary["loop_duration_s"] = inputs.request.duration_s;
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
     CommitTeleopOutputs(out, outputs, TeleopUnits::kLeader, false);
     if (o->json) PrintJson(outputs.summary);
@@ -224,8 +235,10 @@ void RegisterFollower(CLI::App& app, const AppContext& context) {
     link::DdsFollowerLink link(o->link_options, clock);
     StopOnSignals();
     inputs.request.csv_dir = out.staging();
+    // Announced for whoever starts a leader after it (the two-process session): the loops run, the state is sent.
     teleop::TeleopOutputs outputs =
-        teleop::RunFollower(inputs.request, inputs.setup, link, clock, out.Path("session.rlog"), &g_stop);
+        teleop::RunFollower(inputs.request, inputs.setup, link, clock, out.Path("session.rlog"), &g_stop,
+                            [] { std::cerr << link::kFollowerRunningLine << std::endl; });
     outputs.summary["link"] = link::ToJson(link.Statistics());
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
     CommitTeleopOutputs(out, outputs, TeleopUnits::kFollower, false);

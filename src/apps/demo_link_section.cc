@@ -8,6 +8,7 @@
 #include <string>
 
 #include "src/apps/demo.h"
+#include "src/apps/demo_teleop_section.h"
 #include "src/core/child_process.h"
 #include "src/core/units.h"
 #include "src/link/keys.h"
@@ -77,6 +78,8 @@ void WriteLinkSection(DemoContext& demo) {
               << "| max follower speed | " << num(f, "max_follower_speed_mm_s") << " mm/s, "
               << num(f, "max_follower_angular_speed_deg_s") << " °/s |\n"
               << "| max force on the hand | " << num(l, "max_force_n") << " N |\n"
+              << "| overruns of the leader's / follower's / simulated robot's loop | " << OverrunsByCause(l, "leader")
+              << " / " << OverrunsByCause(f, "follower") << " / " << OverrunsByCause(f, "plant") << " |\n"
               << "| period jitter p99 leader / follower (µs) | " << num(l, "leader_period_jitter_us_p99") << " / "
               << num(f, "follower_period_jitter_us_p99") << " |\n\n";
   demo.report << "Follower state transitions:";

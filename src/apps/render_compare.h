@@ -27,7 +27,7 @@ struct RenderCompareRequest {
 
 struct RenderCompareResult {
   haptics::Scenario scenario;
-  std::vector<haptics::MethodRun> runs;
+  std::vector<haptics::MethodRun> runs;  // metrics per method; their traces are in the output folder, not here
   nlohmann::ordered_json summary;
   std::string table_markdown;
   std::vector<std::string> figures;  // PNGs written (relative to the output folder)

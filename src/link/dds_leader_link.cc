@@ -75,11 +75,11 @@ std::uint32_t DdsLeaderLink::FollowersMatched() const noexcept {
   return dds_get_subscription_matched_status(state_reader_, &matched) == DDS_RETCODE_OK ? matched.current_count : 0;
 }
 
-void DdsLeaderLink::WaitForFollower(double peer_wait_s, double heard_wait_s) const {
+void DdsLeaderLink::WaitForFollower(double wait_s) const {
   using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  const auto wait_until = [&](double s, auto&& done) {
-    const auto until = start + std::chrono::duration<double>(s);
+  // One deadline for both steps: the follower authenticated, then its state heard.
+  const auto until = Clock::now() + std::chrono::duration<double>(wait_s);
+  const auto wait_until = [&](auto&& done) {
     while (!done()) {
       if (Clock::now() >= until) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -87,8 +87,8 @@ void DdsLeaderLink::WaitForFollower(double peer_wait_s, double heard_wait_s) con
     return true;
   };
   char seconds[32];
-  if (!wait_until(std::min(peer_wait_s, heard_wait_s), [&] { return FollowersMatched() > 0; })) {
-    std::snprintf(seconds, sizeof seconds, "%.1f", std::min(peer_wait_s, heard_wait_s));
+  std::snprintf(seconds, sizeof seconds, "%.1f", wait_s);
+  if (!wait_until([&] { return FollowersMatched() > 0; })) {
     const std::string where = "no follower authenticated on DDS domain " + std::to_string(options_.domain_id) +
                               " within " + seconds + " s: ";
     const std::string refused = dds_.HandshakeFailure();
@@ -101,8 +101,7 @@ void DdsLeaderLink::WaitForFollower(double peer_wait_s, double heard_wait_s) con
     throw std::runtime_error(where + "no peer answered (is `robossis follower` running on the same --domain, " +
                              "reachable through --interface and --peer" + (options_.insecure ? ", and with --insecure too?)" : "?)"));
   }
-  if (!wait_until(heard_wait_s, [&] { return Statistics().state_received > 0; })) {
-    std::snprintf(seconds, sizeof seconds, "%.1f", heard_wait_s);
+  if (!wait_until([&] { return Statistics().state_received > 0; })) {
     throw std::runtime_error("a follower was authenticated on DDS domain " + std::to_string(options_.domain_id) +
                              " but its operating state was not heard within " + seconds + " s");
   }

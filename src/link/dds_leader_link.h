@@ -41,10 +41,10 @@ class DdsLeaderLink final : public teleop::LeaderLink {
 
   LeaderLinkStatistics Statistics() const noexcept;
   // Not real-time: waits until a follower is matched (which, secured, means authenticated and allowed by access
-  // control) within `peer_wait_s`, then until its operating state has arrived, `heard_wait_s` after the start at
-  // the latest (so that the first set-points are not sent into the void). Throws std::runtime_error with one line
-  // naming the cause: no peer at all, a handshake Cyclone refused (its reason), or a follower that stays silent.
-  void WaitForFollower(double peer_wait_s, double heard_wait_s) const;
+  // control), then until its operating state has arrived (so that the first set-points are not sent into the void),
+  // both within the one bound `wait_s` from the call. Throws std::runtime_error with one line naming the cause: no
+  // peer at all, a handshake Cyclone refused (its reason), or a follower that stays silent.
+  void WaitForFollower(double wait_s) const;
 
  private:
   void ReceiveLoop();

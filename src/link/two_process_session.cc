@@ -66,15 +66,34 @@ TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& r) {
   const double follower_backstop_s = std::min(3600.0, r.duration_s + r.follower_start_timeout_s + 60);
   ChildProcess follower(r.program, UnitArgs(r, "follower", r.follower_args, follower_backstop_s, r.out_dir / "follower"),
                         follower_log);
+  const auto fail = [](const char* unit, const ChildExit& e, const std::filesystem::path& log) {
+    return std::runtime_error(std::string(unit) + " process: " + e.Describe() + ": " + LastLine(log) + " (log: " +
+                              log.string() + ")");
+  };
+  // The leader's --duration-s bounds its whole run: it starts once the follower's loops run (its Bullet robot built),
+  // and then waits only for the secured handshake.
+  const auto started_by =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(r.follower_start_timeout_s);
+  for (;;) {
+    if (const std::optional<ChildExit> e = follower.WaitFor(std::chrono::milliseconds(20))) {
+      throw fail("follower", *e, follower_log);
+    }
+    std::string text;
+    try {
+      text = ReadTextFile(follower_log);
+    } catch (const std::exception&) {  // not written yet
+    }
+    if (text.find(kFollowerRunningLine) != std::string::npos) break;
+    if (std::chrono::steady_clock::now() > started_by) {
+      throw std::runtime_error("follower process: its loops did not run within " +
+                               Seconds(r.follower_start_timeout_s) + " s (log: " + follower_log.string() + ")");
+    }
+  }
   std::vector<std::string> leader_args = r.leader_args;
   leader_args.push_back("--wait-for-follower-s");
   leader_args.push_back(Seconds(r.follower_start_timeout_s));
   ChildProcess leader(r.program, UnitArgs(r, "leader", leader_args, r.duration_s, r.out_dir / "leader"), leader_log);
 
-  const auto fail = [](const char* unit, const ChildExit& e, const std::filesystem::path& log) {
-    return std::runtime_error(std::string(unit) + " process: " + e.Describe() + ": " + LastLine(log) + " (log: " +
-                              log.string() + ")");
-  };
   // The leader's run, its start included; a follower that dies first ends the session.
   const auto leader_budget = std::chrono::milliseconds(
       static_cast<long long>(1e3 * (r.duration_s + r.follower_start_timeout_s + 60)));

@@ -73,11 +73,15 @@ StreamSpec EndStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, elapsed_s, "s"),
       ROBOSSIS_LOG_FIELD(R, leader_loop_ticks, ""),
       ROBOSSIS_LOG_FIELD(R, leader_overruns, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_overruns_late_wake, ""),
+      ROBOSSIS_LOG_FIELD(R, leader_overruns_long_tick, ""),
       ROBOSSIS_LOG_FIELD(R, leader_period_jitter_us_p99, "us"),
       ROBOSSIS_LOG_FIELD(R, leader_period_jitter_us_max, "us"),
       ROBOSSIS_LOG_FIELD(R, leader_wake_latency_us_p99, "us"),
       ROBOSSIS_LOG_FIELD(R, follower_loop_ticks, ""),
       ROBOSSIS_LOG_FIELD(R, follower_overruns, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_overruns_late_wake, ""),
+      ROBOSSIS_LOG_FIELD(R, follower_overruns_long_tick, ""),
       ROBOSSIS_LOG_FIELD(R, follower_period_jitter_us_p99, "us"),
       ROBOSSIS_LOG_FIELD(R, follower_period_jitter_us_max, "us"),
       ROBOSSIS_LOG_FIELD(R, follower_wake_latency_us_p99, "us"),
@@ -88,6 +92,10 @@ StreamSpec EndStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, follower_records_dropped, ""),
       ROBOSSIS_LOG_FIELD(R, device_failures, ""),
       ROBOSSIS_LOG_FIELD(R, ik_rejected, ""),
+      ROBOSSIS_LOG_FIELD(R, plant_loop_ticks, ""),
+      ROBOSSIS_LOG_FIELD(R, plant_overruns, ""),
+      ROBOSSIS_LOG_FIELD(R, plant_overruns_late_wake, ""),
+      ROBOSSIS_LOG_FIELD(R, plant_overruns_long_tick, ""),
   };
   return s;
 }

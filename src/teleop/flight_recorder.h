@@ -25,15 +25,20 @@ inline constexpr std::uint8_t kEndStream = 2;
 
 // What only the end of a run knows: the loops' own timing statistics and the units' counters. One record, written
 // last; a log without it is from a run that did not end (a crash).
+// Overruns are split by cause (rt::OverrunCause): a late wake-up (scheduling) or a tick longer than its period.
 struct SessionEndRecord {
   double elapsed_s = 0;
   std::uint64_t leader_loop_ticks = 0;
   std::uint64_t leader_overruns = 0;
+  std::uint64_t leader_overruns_late_wake = 0;
+  std::uint64_t leader_overruns_long_tick = 0;
   double leader_period_jitter_us_p99 = 0;
   double leader_period_jitter_us_max = 0;
   double leader_wake_latency_us_p99 = 0;
   std::uint64_t follower_loop_ticks = 0;
   std::uint64_t follower_overruns = 0;
+  std::uint64_t follower_overruns_late_wake = 0;
+  std::uint64_t follower_overruns_long_tick = 0;
   double follower_period_jitter_us_p99 = 0;
   double follower_period_jitter_us_max = 0;
   double follower_wake_latency_us_p99 = 0;
@@ -44,6 +49,11 @@ struct SessionEndRecord {
   std::uint64_t follower_records_dropped = 0;
   std::uint64_t device_failures = 0;
   std::uint64_t ik_rejected = 0;
+  // The simulated robot's own loop (robot::Follower::plant()), when the back end runs one; zero otherwise.
+  std::uint64_t plant_loop_ticks = 0;
+  std::uint64_t plant_overruns = 0;
+  std::uint64_t plant_overruns_late_wake = 0;
+  std::uint64_t plant_overruns_long_tick = 0;
 };
 
 // The layouts, for the log's header.

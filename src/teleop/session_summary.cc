@@ -227,6 +227,16 @@ nlohmann::ordered_json SessionSummary::Summary() const {
                                                           static_cast<double>(end_.leader_loop_ticks) : 0.0;
   j["follower_overrun_rate"] = end_.follower_loop_ticks ? static_cast<double>(end_.follower_overruns) /
                                                               static_cast<double>(end_.follower_loop_ticks) : 0.0;
+  // Overruns by cause (rt::OverrunCause), per loop: late_wake = the loop woke too late (scheduling), long_tick =
+  // the tick's own duration passed its period. The simulated robot's own loop (plant) where the back end runs one.
+  j["leader_overruns_late_wake"] = end_.leader_overruns_late_wake;
+  j["leader_overruns_long_tick"] = end_.leader_overruns_long_tick;
+  j["follower_overruns_late_wake"] = end_.follower_overruns_late_wake;
+  j["follower_overruns_long_tick"] = end_.follower_overruns_long_tick;
+  j["plant_ticks"] = end_.plant_loop_ticks;
+  j["plant_overruns"] = end_.plant_overruns;
+  j["plant_overruns_late_wake"] = end_.plant_overruns_late_wake;
+  j["plant_overruns_long_tick"] = end_.plant_overruns_long_tick;
   j["setpoints_accepted"] = end_.setpoints_accepted;
   j["setpoints_rejected"] = end_.setpoints_rejected;
   nlohmann::ordered_json by_verdict = nlohmann::ordered_json::object();

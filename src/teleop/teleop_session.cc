@@ -357,6 +357,8 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     const rt::LoopStats& ls = run.stats[next++];
     end.leader_loop_ticks = ls.ticks;
     end.leader_overruns = ls.overruns;
+    end.leader_overruns_late_wake = ls.overruns_late_wake;
+    end.leader_overruns_long_tick = ls.overruns_long_tick;
     end.leader_period_jitter_us_p99 = ls.period_jitter.PercentileUs(0.99);
     end.leader_period_jitter_us_max = ls.period_jitter.max_us();
     end.leader_wake_latency_us_p99 = ls.wake_latency.PercentileUs(0.99);
@@ -369,6 +371,8 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     const FollowerCounters& c = follower->unit->counters();
     end.follower_loop_ticks = fs.ticks;
     end.follower_overruns = fs.overruns;
+    end.follower_overruns_late_wake = fs.overruns_late_wake;
+    end.follower_overruns_long_tick = fs.overruns_long_tick;
     end.follower_period_jitter_us_p99 = fs.period_jitter.PercentileUs(0.99);
     end.follower_period_jitter_us_max = fs.period_jitter.max_us();
     end.follower_wake_latency_us_p99 = fs.wake_latency.PercentileUs(0.99);
@@ -376,6 +380,13 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     end.setpoints_accepted = c.setpoints_accepted;
     end.setpoints_rejected = c.setpoints_rejected;
     end.follower_records_dropped = c.records_dropped;
+    if (next < run.stats.size()) {  // the plant's own loop, scheduled after the follower's
+      const rt::LoopStats& ps = run.stats[next++];
+      end.plant_loop_ticks = ps.ticks;
+      end.plant_overruns = ps.overruns;
+      end.plant_overruns_late_wake = ps.overruns_late_wake;
+      end.plant_overruns_long_tick = ps.overruns_long_tick;
+    }
   }
   if (recorder_error.empty()) {
     try {
@@ -452,7 +463,7 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
 
 TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
                           const rt::MonotonicClock& clock, const std::filesystem::path& log_file,
-                          const std::atomic<bool>* stop) {
+                          const std::atomic<bool>* stop, const std::function<void()>& running) {
   CheckRequest(request, Units::kFollower);
   TeleopRequest real = request;
   real.real_clock = true;
@@ -461,7 +472,12 @@ TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup
   for (const StateCommandMessage& command : StartCommands(request)) local.SendLocal(command);
   RunClock run_clock;
   run_clock.real = &clock;
-  return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, {});
+  bool announced = false;
+  return RunSides(real, setup, Units::kFollower, nullptr, &follower, run_clock, log_file, stop, [&](double) {
+    if (announced || !running) return;
+    announced = true;
+    running();
+  });
 }
 
 TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file) {

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -119,10 +120,11 @@ TeleopOutputs RunLeader(const TeleopRequest& request, const TeleopSetup& setup, 
 // The follower unit alone, over `link`, in real time on `clock` (the one the link stamps arrivals with):
 // request.device and request.method are not used. Ends after duration_s or once `stop` is set; the drives are
 // disabled at the end. The outputs hold the follower's half (follower.csv, its keys of the summary, set-points
-// accepted and rejected).
+// accepted and rejected). `running` (may be empty) is called once, on the calling thread, when the loops run: a
+// leader started after it finds the follower answering at once.
 TeleopOutputs RunFollower(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
                           const rt::MonotonicClock& clock, const std::filesystem::path& log_file,
-                          const std::atomic<bool>* stop = nullptr);
+                          const std::atomic<bool>* stop = nullptr, const std::function<void()>& running = {});
 
 // The outputs of the run that wrote `log_file`, recomputed from its records. Throws std::runtime_error naming the
 // file and the problem.

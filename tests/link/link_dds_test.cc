@@ -600,11 +600,26 @@ namespace {
 TEST(DdsLink, ALeaderWithNoFollowerGivesUpNamingTheCause) {
   DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
   try {
-    leader.WaitForFollower(1.0, 1.0);
+    leader.WaitForFollower(1.0);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no follower authenticated"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("no peer answered"), std::string::npos) << e.what();
+  }
+}
+
+// The wait has one bound: a follower that is authenticated but never sends its state ends it there too (before, the
+// first step was bounded by link.yaml's wait and --duration-s, the second by --wait-for-follower-s alone, 60 s).
+TEST(DdsLink, AFollowerThatStaysSilentEndsTheLeadersWaitAtItsOneBound) {
+  rt::MonotonicClock clock;
+  DdsFollowerLink silent(LoopbackOptions(Role::kFollower), clock);  // publishes no state
+  DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
+  try {
+    leader.WaitForFollower(2.0);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("its operating state was not heard within 2.0 s"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -629,7 +644,7 @@ TEST(DdsLink, ALeaderThatCannotAuthenticateGivesUpNamingTheRefusedHandshakeAndTh
     o.keys_dir = foreign / "leader";
     DdsLeaderLink rogue(o);
     try {
-      rogue.WaitForFollower(3.0, 3.0);
+      rogue.WaitForFollower(3.0);
       ADD_FAILURE() << "the rogue leader found a follower";
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("no follower authenticated"), std::string::npos) << e.what();
@@ -639,7 +654,7 @@ TEST(DdsLink, ALeaderThatCannotAuthenticateGivesUpNamingTheRefusedHandshakeAndTh
   }
   const auto start = std::chrono::steady_clock::now();
   DdsLeaderLink leader(LoopbackOptions(Role::kLeader));
-  EXPECT_NO_THROW(leader.WaitForFollower(10.0, 30.0));
+  EXPECT_NO_THROW(leader.WaitForFollower(30.0));
   std::cout << "figures: the right leader accepted "
             << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
             << " s after its start (after the rogue)\n";

@@ -1,7 +1,8 @@
 // The periodic loops: simulated stepping ticks every task at its own period, in the given order at shared
 // instants, deterministically; the real-time runner ticks on absolute deadlines and accounts for every deadline,
 // ticked or skipped (bookkeeping that holds however the machine is loaded; its timing is the benchmarks'); the
-// histogram's percentiles; the loop bookkeeping allocates nothing per tick.
+// histogram's percentiles; each missed deadline counted under its cause, on a fake clock; the loop bookkeeping
+// allocates nothing per tick.
 
 #include <atomic>
 #include <vector>
@@ -119,6 +120,75 @@ TEST(LatencyHistogramTest, PercentilesAndOverflow) {
   EXPECT_DOUBLE_EQ(h.max_us(), 250.0);
   testing::AllocationCounter counter;
   for (int i = 0; i < 1000; ++i) h.Add(i * 100);
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+// The loop's bookkeeping on a fake clock (times in ns given by the test): each overrun is counted under its own
+// cause, whatever the machine.
+class OverrunCauseTest : public ::testing::Test {
+ protected:
+  OverrunCauseTest() { stats.period_ns = kPeriod; }
+  static constexpr std::int64_t kPeriod = 100'000;  // 10 kHz
+  LoopStats stats;
+};
+
+TEST_F(OverrunCauseTest, ATickThatEndsBeforeTheNextDeadlineIsNoOverrun) {
+  // Woke 30 µs late, worked 60 µs: ends at 90 µs, before the next deadline (100 µs).
+  EXPECT_EQ(stats.AccountTick(0, 30'000, 90'000), kPeriod);
+  EXPECT_EQ(stats.overruns, 0u);
+  EXPECT_EQ(stats.ticks, 1u);
+}
+
+TEST_F(OverrunCauseTest, ALateWakeIsCountedAsALateWake) {
+  // Woke 250 µs late, then a 10 µs tick: on time it would have fit. Deadlines 100, 200 µs skipped (ends at 260 µs),
+  // the next one is 300 µs.
+  EXPECT_EQ(stats.AccountTick(0, 250'000, 260'000), 3 * kPeriod);
+  EXPECT_EQ(stats.overruns, 2u);
+  EXPECT_EQ(stats.overruns_late_wake, 2u);
+  EXPECT_EQ(stats.overruns_long_tick, 0u);
+}
+
+TEST_F(OverrunCauseTest, ALateWakeThatLeavesTooLittleOfThePeriodIsALateWake) {
+  // Woke 50 µs late, a 60 µs tick (within the period): it ends at 110 µs because it started late.
+  EXPECT_EQ(stats.AccountTick(0, 50'000, 110'000), 2 * kPeriod);
+  EXPECT_EQ(stats.overruns_late_wake, 1u);
+  EXPECT_EQ(stats.overruns_long_tick, 0u);
+}
+
+TEST_F(OverrunCauseTest, ALongTickIsCountedAsALongTick) {
+  // On time, but the tick itself took 120 µs: the deadline at 100 µs is missed, the next one is 200 µs.
+  EXPECT_EQ(stats.AccountTick(0, 0, 120'000), 2 * kPeriod);
+  EXPECT_EQ(stats.overruns, 1u);
+  EXPECT_EQ(stats.overruns_long_tick, 1u);
+  EXPECT_EQ(stats.overruns_late_wake, 0u);
+  // A 100 ms stall inside a tick (a page fault, a preemption in the middle of the work): 1000 deadlines missed.
+  EXPECT_EQ(stats.AccountTick(2 * kPeriod, 2 * kPeriod, 2 * kPeriod + 100'000'000), 1003 * kPeriod);
+  EXPECT_EQ(stats.overruns_long_tick, 1u + 1000u);
+  EXPECT_EQ(stats.overruns_late_wake, 0u);
+}
+
+TEST_F(OverrunCauseTest, TheCausesAddUpToTheOverrunsOverAMixedRun) {
+  std::int64_t deadline = 0;
+  deadline = stats.AccountTick(deadline, deadline, deadline + 10'000);             // on time
+  deadline = stats.AccountTick(deadline, deadline + 150'000, deadline + 160'000);  // late wake: 1 missed
+  deadline = stats.AccountTick(deadline, deadline, deadline + 230'000);            // long tick: 2 missed
+  deadline = stats.AccountTick(deadline, deadline + 5'000, deadline + 15'000);     // on time
+  EXPECT_EQ(stats.ticks, 4u);
+  EXPECT_EQ(stats.overruns_late_wake, 1u);
+  EXPECT_EQ(stats.overruns_long_tick, 2u);
+  EXPECT_EQ(stats.overruns, 3u);
+  // Every deadline is either ticked or skipped: 4 ticks + 3 skipped, the next is the 8th.
+  EXPECT_EQ(deadline, 7 * kPeriod);
+  EXPECT_EQ(stats.wake_latency.count(), 4u);
+  EXPECT_EQ(stats.period_jitter.count(), 3u);
+}
+
+TEST_F(OverrunCauseTest, TheBookkeepingAllocatesNothing) {
+  testing::AllocationCounter counter;
+  std::int64_t deadline = 0;
+  for (int i = 0; i < 1000; ++i) {
+    deadline = stats.AccountTick(deadline, deadline + (i % 7) * 40'000, deadline + (i % 5) * 50'000 + 300'000);
+  }
   EXPECT_EQ(counter.count(), 0u);
 }
 

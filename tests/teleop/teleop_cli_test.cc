@@ -48,6 +48,13 @@ TEST(TeleopCliTest, SimulatedSessionWritesItsFilesAndReplayReproducesTheSummary)
   }
   EXPECT_EQ(summary["leader_ticks"], 2000);
   EXPECT_EQ(summary["follower_ticks"], 20000);
+  // Every loop's overruns by cause, the simulated robot's own loop (1 kHz) included; none on the simulated clock.
+  EXPECT_EQ(summary["plant_ticks"], 2000);
+  for (const char* loop : {"leader", "follower", "plant"}) {
+    for (const char* cause : {"_overruns_late_wake", "_overruns_long_tick"}) {
+      EXPECT_EQ(summary[std::string(loop) + cause], 0) << loop << cause;
+    }
+  }
   EXPECT_EQ(summary["follower_limit_violations"], 0);
   // The fast hand at the shipped 10 mm/s cap: no single delay, and the summary says so rather than a number.
   EXPECT_TRUE(summary["hand_to_setpoint_delay_ms"].is_null());

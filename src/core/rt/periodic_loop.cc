@@ -65,28 +65,16 @@ void PeriodicLoop::Stop() noexcept {
 
 void PeriodicLoop::Run(std::int64_t start_ns) noexcept {
   const std::int64_t epoch = clock_.epoch_ns();
-  const std::int64_t period = options_.period_ns;
   std::int64_t deadline = start_ns;
-  std::int64_t previous_start = -1;
   while (!stop_.load(std::memory_order_relaxed)) {
     SleepUntil(epoch + deadline);
     const std::int64_t start = MonotonicNowNs() - epoch;
-    stats_.wake_latency.Add(start - deadline);
-    if (previous_start >= 0) stats_.period_jitter.Add(std::llabs(start - previous_start - period));
-    previous_start = start;
     task_.Tick(start);
     const std::int64_t end = MonotonicNowNs() - epoch;
-    stats_.tick_duration.Add(end - start);
-    ++stats_.ticks;
+    // Missed deadlines are skipped, not made up: the next tick is the first deadline still ahead.
+    deadline = stats_.AccountTick(deadline, start, end);
     ticks_.store(stats_.ticks, std::memory_order_relaxed);
-    deadline += period;
-    if (end > deadline) {
-      // Missed deadlines are skipped, not made up: the next tick is the first deadline still ahead.
-      const std::int64_t missed = (end - deadline) / period + 1;
-      stats_.overruns += static_cast<std::uint64_t>(missed);
-      overruns_.store(stats_.overruns, std::memory_order_relaxed);
-      deadline += missed * period;
-    }
+    overruns_.store(stats_.overruns, std::memory_order_relaxed);
   }
 }
 
@@ -158,11 +146,8 @@ RunResult RunSimulated(SimulatedClock& clock, const std::vector<ScheduledTask>& 
     for (std::size_t i = 0; i < n; ++i) {
       if (next[i] != t) continue;
       tasks[i].task->Tick(t);
-      LoopStats& s = result.stats[i];
-      if (s.ticks > 0) s.period_jitter.Add(0);  // simulated time: every tick exactly on its deadline
-      s.wake_latency.Add(0);
-      ++s.ticks;
-      next[i] += tasks[i].options.period_ns;
+      // Simulated time: every tick starts on its deadline and takes no time.
+      next[i] = result.stats[i].AccountTick(t, t, t);
     }
   }
   if (!result.stopped_early) clock.SetNs(end_ns);

@@ -4,7 +4,8 @@
 // names what was refused, and the loop runs anyway at normal priority), overruns and period jitter counted.
 //
 // Missed deadlines are skipped, never made up: after a late tick (a stall, a preemption) the next tick is the first
-// deadline still ahead, and each deadline missed counts as an overrun. A control tick acts on the present (it reads
+// deadline still ahead, and each deadline missed counts as an overrun, under its cause (rt::OverrunCause: a late
+// wake-up, or a tick longer than its period; LoopStats::AccountTick). A control tick acts on the present (it reads
 // the clock and bounds its motion by the time that really passed), so a burst of ticks would only hand the drives a
 // run of commands meant for instants already gone. A task whose model needs every step (the simulated robot's
 // physics) makes them up inside its one late tick, with the commands at their own times (sim::SimulatedPlant).
