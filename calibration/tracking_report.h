@@ -1,5 +1,5 @@
 #pragma once
-// The files of a tracking evaluation: summary.json (keys fixed by issue 7), errors.csv (one row per used frame),
+// The files of a tracking evaluation: summary.json (its keys are a stable interface), errors.csv (one row per used frame),
 // and TUM trajectories of the reference and the registered tracked ring, so other tools (e.g. evo) can check them.
 
 #include <string>

@@ -162,7 +162,8 @@ TEST_F(HostileKeysMocapTest, TrackEvalChecksTheOffsetOptionsAlways) {
   EXPECT_FALSE(fs::exists(dir_ / "ev"));
   const CommandRun ok = Robossis(eval + "--offset-s 2.4 --offset-window-s 1");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
-  EXPECT_THAT(ok.output, HasSubstr("clock offset 2.5"));
+  EXPECT_THAT(ok.output, HasSubstr("clock offset at mid-take"));
+  EXPECT_THAT(ok.output, HasSubstr("): 2500.0"));  // ms: the true 2.5 s, not the 2.4 s it started from
   // A window that does not hold the offset: an error naming the window, not an offset from outside it.
   fs::remove_all(dir_ / "ev");
   ExpectError(Robossis(eval + "--offset-s 2.0 --offset-window-s 0.01"), "outside the window 2 s +- 0.01 s");

@@ -63,7 +63,7 @@ TEST(RegistrationTest, HandEyeRecoversTransformsWithoutNoise) {
 }
 
 TEST(RegistrationTest, HandEyeWithFlex13NoiseWithinIssueTolerance) {
-  // Issue 7: a known transform within 0.05 mm and 0.01°. Noise σ = 0.08/3 mm and 0.03/3° (the synthetic tracker's).
+  // Goal: a known transform within 0.05 mm and 0.01°. Noise σ = 0.08/3 mm and 0.03/3° (the synthetic tracker's).
   const HandEyeCase c = MakeCase(0.08e-3 / 3, DegToRad(0.03) / 3);
   const HandEyeResult r = CalibrateTrackerToBase(c.X_FM, c.X_TB);
   // The translation is judged where it is used: the ring's workspace (home, 284 mm above the base), not the

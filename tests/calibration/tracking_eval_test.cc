@@ -1,4 +1,4 @@
-// End-to-end on synthetic Motive takes whose ground truth is known (issue 7, tests): clock offset ≤ 1 ms,
+// End-to-end on synthetic Motive takes whose ground truth is known (the goals): clock offset ≤ 1 ms,
 // transform ≤ 0.05 mm / 0.01°, injected mean error within 0.01 mm.
 
 #include "calibration/tracking_eval.h"
