@@ -1,6 +1,7 @@
 #pragma once
 // The files of a tracking evaluation: summary.json (its keys are a stable interface), errors.csv (one row per used
-// frame), and TUM trajectories of the reference and the registered tracked ring, so other tools (e.g. evo) can check them.
+// frame), and TUM trajectories of the reference and the registered tracked ring, so other tools (e.g. evo) can
+// check them.
 
 #include <string>
 
