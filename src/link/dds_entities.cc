@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "robossis_link.h"
+#include "src/core/rt/periodic_loop.h"
 
 namespace robossis::link {
 
@@ -138,7 +139,7 @@ DdsParticipant::DdsParticipant(const LinkOptions& options) : options_(options) {
   InstallLogSink();
   handshake_failures_before_ = HandshakeFailuresSoFar();
   const int local = NextLocalDomainId();
-  const std::string config = BuildCycloneConfig(options, local);
+  const std::string config = BuildCycloneConfig(options, local, rt::FifoPermitted(rt::kLinkThreadFifoPriority));
   domain_ = Check(dds_create_domain(static_cast<dds_domainid_t>(local), config.c_str()), "DDS domain");
   dds_qos_t* qos = dds_create_qos();
   for (const auto& [name, value] : properties) dds_qset_prop(qos, name.c_str(), value.c_str());

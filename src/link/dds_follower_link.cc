@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "robossis_link.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/link/setpoint_validation.h"
 #include "src/link/wire_convert.h"
 
@@ -40,6 +41,9 @@ DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& cl
   Check(dds_waitset_attach(waitset_, stop_guard_, stop_guard_), "waitset attach");
   receive_thread_ = std::thread([this] { ReceiveLoop(); });
   send_thread_ = std::thread([this] { SendLoop(); });
+  // Where permitted (else they stay at normal priority): below the loops, above normal-priority work.
+  rt::SetFifoPriority(receive_thread_, rt::kLinkThreadFifoPriority);
+  rt::SetFifoPriority(send_thread_, rt::kLinkThreadFifoPriority);
 }
 
 DdsFollowerLink::~DdsFollowerLink() {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "robossis_link.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/clock.h"
 #include "src/link/wire_convert.h"
 
@@ -33,6 +34,9 @@ DdsLeaderLink::DdsLeaderLink(const LinkOptions& options) : options_(options), dd
   }
   receive_thread_ = std::thread([this] { ReceiveLoop(); });
   send_thread_ = std::thread([this] { SendLoop(); });
+  // Where permitted (else they stay at normal priority): below the loops, above normal-priority work.
+  rt::SetFifoPriority(receive_thread_, rt::kLinkThreadFifoPriority);
+  rt::SetFifoPriority(send_thread_, rt::kLinkThreadFifoPriority);
 }
 
 DdsLeaderLink::~DdsLeaderLink() {

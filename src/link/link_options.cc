@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "src/core/config.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/link/keys.h"
 
 namespace robossis::link {
@@ -74,7 +75,7 @@ std::string FileUri(const std::filesystem::path& p) { return "file:" + std::file
 
 }  // namespace
 
-std::string BuildCycloneConfig(const LinkOptions& o, int local_domain_id) {
+std::string BuildCycloneConfig(const LinkOptions& o, int local_domain_id, bool realtime_threads) {
   std::string x = "<CycloneDDS><Domain Id=\"" + std::to_string(local_domain_id) + "\"><General><Interfaces>";
   x += LooksLikeAddress(o.network_interface) ? "<NetworkInterface address=\"" : "<NetworkInterface name=\"";
   x += XmlEscape(o.network_interface) + "\"/></Interfaces>";
@@ -89,7 +90,17 @@ std::string BuildCycloneConfig(const LinkOptions& o, int local_domain_id) {
     for (const auto& p : o.peers) x += "<Peer address=\"" + XmlEscape(p) + "\"/>";
     x += "</Peers>";
   }
-  x += "</Discovery></Domain></CycloneDDS>";
+  x += "</Discovery>";
+  if (realtime_threads) {
+    x += "<Threads>";
+    for (const char* name : {"recv", "dq.user", "dq.builtins", "tev"}) {
+      x += std::string("<Thread name=\"") + name + "\"><Scheduling><Class>realtime</Class><Priority>" +
+           std::to_string(rt::kLinkThreadFifoPriority) + "</Priority></Scheduling></Thread>";
+    }
+    // One receive thread for every socket: Cyclone's unicast receive thread (recvUC) takes no scheduling of its own.
+    x += "</Threads><Internal><MultipleReceiveThreads>false</MultipleReceiveThreads></Internal>";
+  }
+  x += "</Domain></CycloneDDS>";
   return x;
 }
 

@@ -76,8 +76,10 @@ struct LinkOptions {
 };
 
 // The Cyclone DDS configuration (XML) of one link end. `local_domain_id` is this process's domain, mapped onto
-// options.domain_id on the wire (so two ends can live in one process, as the tests do).
-std::string BuildCycloneConfig(const LinkOptions& options, int local_domain_id);
+// options.domain_id on the wire (so two ends can live in one process, as the tests do). With `realtime_threads`,
+// Cyclone's receive, delivery and timed-event threads run at SCHED_FIFO rt::kLinkThreadFifoPriority (only where the
+// process may: Cyclone refuses to start a thread it cannot schedule so).
+std::string BuildCycloneConfig(const LinkOptions& options, int local_domain_id, bool realtime_threads = false);
 
 // The DDS Security participant properties (name, value) for the role's credentials in options.keys_dir.
 // Throws std::runtime_error naming the missing or misplaced file (CheckCredentialBundle). Empty when insecure.

@@ -327,8 +327,8 @@ void LocalSessionBackend::FollowerTick() noexcept {
   health_record_.watchdog_holds = unit_->counters().watchdog_holds;
   health_record_.setpoints_by_verdict = unit_->counters().setpoints_by_verdict;
   if (follower_loop_) {  // the loops' own counts (atomics); without the loops, a test's Step() has none
-    health_record_.overruns = follower_loop_->overruns();
-    health_record_.leader_overruns = leader_loop_->overruns();
+    health_record_.follower_loop = follower_loop_->counts();
+    health_record_.leader_loop = leader_loop_->counts();
   }
   health_.Publish(health_record_);
 }

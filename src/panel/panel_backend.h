@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <string>
 
+#include "src/core/rt/loop_stats.h"
 #include "src/panel/jog.h"
 #include "src/teleop/link_messages.h"
 #include "src/teleop/setpoint_validator.h"
@@ -24,8 +25,10 @@ struct LoopHealth {
   double max_jitter_s = 0;           // largest |actual period - nominal| since start
   double last_jitter_s = 0;          // the last period's
   std::uint64_t ticks = 0;
-  std::uint64_t overruns = 0;        // ticks that missed their deadline
-  std::uint64_t leader_overruns = 0; // the same for the leader side's loop (the 1 kHz set-points), where there is one
+  // The deadlines the follower's loop and the leader side's loop (the 1 kHz set-points, where there is one) missed,
+  // by cause: a late wake-up (scheduling) or a long tick (rt::LoopStats).
+  rt::LoopCounts follower_loop;
+  rt::LoopCounts leader_loop;
   double setpoint_age_s = -1;        // time since the last set-point was consumed; < 0: none yet
   std::uint64_t watchdog_holds = 0;  // holds because the set-points went stale
   // The follower's set-points by the validator's verdict (index: teleop::SetPointVerdict): why it refused the ones

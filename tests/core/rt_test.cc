@@ -126,6 +126,48 @@ TEST(SnapshotTest, ReadNewerHandsEachValueOutOnceAndNeverAnOlderOne) {
   EXPECT_FALSE(snap.ReadNewer(out, held));  // nothing published since: nothing newer
 }
 
+}  // namespace
+
+// Stops a writer between the two halves of a publish, where a preemption could stop it.
+class SnapshotTestAccess {
+ public:
+  template <typename T>
+  static void BeginPublish(Snapshot<T>& snap, const T& value) noexcept { snap.BeginPublish(value); }
+  template <typename T>
+  static void EndPublish(Snapshot<T>& snap, const T& value) noexcept { snap.EndPublish(value); }
+};
+
+namespace {
+
+TEST(SnapshotTest, AWriterStoppedInTheMiddleOfAWriteNeverHoldsAReader) {
+  // A SCHED_FIFO loop that preempts a normal-priority writer (a link's receive thread) in the middle of a write, on
+  // the writer's CPU, keeps it from finishing for as long as the loop's thread holds the CPU. The reader must get
+  // the last complete value at once. (A sequence lock's reader spins here for ever: this test then never ends.)
+  Snapshot<Record> snap;
+  Record first, second, out;
+  first.a = first.b = 1;
+  second.a = second.b = 2;
+  std::uint64_t held = 0;
+  SnapshotTestAccess::BeginPublish(snap, first);
+  EXPECT_FALSE(snap.Read(out));  // stopped in the first write: nothing complete yet
+  EXPECT_FALSE(snap.ReadNewer(out, held));
+  SnapshotTestAccess::EndPublish(snap, first);
+  ASSERT_TRUE(snap.ReadNewer(out, held));
+  EXPECT_EQ(out.a, 1u);
+  EXPECT_EQ(held, 1u);
+  SnapshotTestAccess::BeginPublish(snap, second);
+  EXPECT_FALSE(snap.ReadNewer(out, held));  // nothing newer is complete
+  ASSERT_TRUE(snap.Read(out));              // the previous value, whole
+  EXPECT_EQ(out.a, 1u);
+  EXPECT_EQ(out.b, 1u);
+  EXPECT_EQ(snap.version(), 1u);
+  SnapshotTestAccess::EndPublish(snap, second);
+  ASSERT_TRUE(snap.ReadNewer(out, held));
+  EXPECT_EQ(out.a, 2u);
+  EXPECT_EQ(held, 2u);
+  EXPECT_EQ(snap.version(), 2u);
+}
+
 TEST(SnapshotTest, PublishAndReadDoNotAllocate) {
   Snapshot<Record> snap;
   Record r, out;

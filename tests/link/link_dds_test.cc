@@ -1,18 +1,22 @@
 // The DDS link end to end on loopback: each test starts its own participants (secured unless it says otherwise) in
 // a domain of its own process, and stops them.
 
+#include <sched.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -20,6 +24,7 @@
 #include "robossis_link.h"
 #include "src/core/files.h"
 #include "src/core/rt/clock.h"
+#include "src/core/rt/periodic_loop.h"
 #include "src/link/dds_entities.h"
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
@@ -158,6 +163,26 @@ void ExpectPairExchanges(bool insecure) {
 
 TEST(DdsLink, SecuredPairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(false); }
 TEST(DdsLink, InsecurePairExchangesSetPointsStatusAndCommands) { ExpectPairExchanges(true); }
+
+// The threads that carry the set-points run below the loops and above normal-priority work, where the process may
+// use SCHED_FIFO: under load a normal-priority receive thread held the set-points back past the follower's watchdog.
+TEST(DdsLink, CyclonesReceiveDeliveryAndEventThreadsRunAtTheLinksRealTimePriority) {
+  if (!rt::FifoPermitted(rt::kLinkThreadFifoPriority)) GTEST_SKIP() << "SCHED_FIFO is not permitted here";
+  rt::MonotonicClock clock;
+  DdsFollowerLink follower(LoopbackOptions(Role::kFollower, true), clock);
+  std::set<std::string> fifo, other;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::string comm;
+    std::getline(std::ifstream(task.path() / "comm"), comm);
+    const pid_t tid = std::stoi(task.path().filename().string());
+    sched_param param{};
+    const int policy = sched_getscheduler(tid);
+    sched_getparam(tid, &param);
+    (policy == SCHED_FIFO && param.sched_priority == rt::kLinkThreadFifoPriority ? fifo : other).insert(comm);
+  }
+  for (const char* name : {"recv", "tev", "dq.user", "dq.builtins"}) EXPECT_TRUE(fifo.count(name)) << name;
+  EXPECT_FALSE(fifo.count("recvUC") || other.count("recvUC"));  // one receive thread, scheduled as configured
+}
 
 // Two machines, one acceleration cap apart: the leader refuses to start, naming both values; equal, it starts.
 TEST(DdsLink, ALeaderWhoseLimitsDifferFromTheFollowersRefusesToStart) {

@@ -1,5 +1,5 @@
 // The E-stop over DDS: its own topic (rt/<ns>/estop), read by the follower link's receive thread into an atomic
-// count that the follower unit reads first every tick. A flood of commands fills the command queues (drops
+// count that the follower unit reads first every tick. A flood of commands fills the follower's command queue (drops
 // counted), then an E-stop arrives; the drives must be off after the first 10 kHz tick following its arrival
 // (a simulated clock and the pulse recorder as the back end: ticks are counted, not wall time). The waits only
 // poll for what must happen (no timing assertions).
@@ -83,12 +83,10 @@ TEST_P(LinkEStopTest, AnEStopBehindAFloodOfCommandsDisablesTheDrivesInOneTick) {
   }));
   ASSERT_TRUE(back_end_.State().enabled);
 
-  // 10 000 commands while the unit does not tick: the panel's queue and the follower's fill up.
-  std::uint64_t refused = 0;
-  for (int i = 0; i < 10000; ++i) {
-    if (!panel.SendCommand(Command(teleop::StateCommand::kEnable))) ++refused;
-  }
-  EXPECT_GT(refused, 0u);
+  // Commands while the unit does not tick, until the follower's queue overflows. (Whether the panel's own queue
+  // fills first depends on the scheduler: its send thread runs at real-time priority where allowed and may drain it
+  // as fast as it is filled. The E-stop does not pass through that queue.)
+  for (int i = 0; i < 10000; ++i) panel.SendCommand(Command(teleop::StateCommand::kEnable));
   ASSERT_TRUE(WaitFor([&] {
     panel.SendCommand(Command(teleop::StateCommand::kEnable));  // more, until the follower's queue overflows
     return follower.Statistics().commands_dropped > 0;

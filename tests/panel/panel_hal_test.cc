@@ -64,8 +64,8 @@ std::string FollowerReport(LocalSessionBackend& backend, const teleop::FollowerS
     if (v == static_cast<int>(teleop::SetPointVerdict::kAccepted) || health.setpoints_by_verdict[v] == 0) continue;
     out << ", " << teleop::ToString(static_cast<teleop::SetPointVerdict>(v)) << " " << health.setpoints_by_verdict[v];
   }
-  out << "; " << health.watchdog_holds << " watchdog holds, overruns: follower " << health.overruns << ", leader "
-      << health.leader_overruns;
+  out << "; " << health.watchdog_holds << " watchdog holds, overruns: follower " << health.follower_loop.overruns
+      << ", leader " << health.leader_loop.overruns;
   return out.str();
 }
 

@@ -160,8 +160,14 @@ void RegisterPanelCommand(CLI::App& app, const AppContext& context) {
     out["pose_mm_deg"] = view.pose_mm_deg;
     out["setpoints_accepted"] = status.setpoints_accepted;
     out["setpoints_rejected"] = status.setpoints_rejected;
-    out["loop"] = {{"ticks", health.ticks}, {"overruns", health.overruns},
-                   {"leader_overruns", health.leader_overruns}, {"max_jitter_ms", 1e3 * health.max_jitter_s}};
+    out["loop"] = {{"ticks", health.ticks},
+                   {"overruns", health.follower_loop.overruns},
+                   {"overruns_late_wake", health.follower_loop.overruns_late_wake},
+                   {"overruns_long_tick", health.follower_loop.overruns_long_tick},
+                   {"leader_overruns", health.leader_loop.overruns},
+                   {"leader_overruns_late_wake", health.leader_loop.overruns_late_wake},
+                   {"leader_overruns_long_tick", health.leader_loop.overruns_long_tick},
+                   {"max_jitter_ms", 1e3 * health.max_jitter_s}};
     PrintJson(out);
   });
 }

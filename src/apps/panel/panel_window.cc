@@ -321,9 +321,13 @@ void DrawControls(panel::PanelController& panel, float height) {
   ImGui::Text("loop %.0f Hz, ticks %llu", health.period_s > 0 ? 1 / health.period_s : 0.0,
               static_cast<unsigned long long>(health.ticks));
   ImGui::Text("period jitter: last %.3f ms, max %.3f ms", 1e3 * health.last_jitter_s, 1e3 * health.max_jitter_s);
-  ImGui::Text("overruns: %llu (leader %llu)   watchdog holds: %llu", static_cast<unsigned long long>(health.overruns),
-              static_cast<unsigned long long>(health.leader_overruns),
-              static_cast<unsigned long long>(health.watchdog_holds));
+  const auto u = [](std::uint64_t n) { return static_cast<unsigned long long>(n); };
+  const rt::LoopCounts& f = health.follower_loop;
+  const rt::LoopCounts& l = health.leader_loop;
+  ImGui::Text("overruns: %llu (late wake-up %llu, long tick %llu)   watchdog holds: %llu", u(f.overruns),
+              u(f.overruns_late_wake), u(f.overruns_long_tick), u(health.watchdog_holds));
+  ImGui::Text("leader overruns: %llu (late wake-up %llu, long tick %llu)", u(l.overruns), u(l.overruns_late_wake),
+              u(l.overruns_long_tick));
   if (health.setpoint_age_s < 0)
     ImGui::Text("set-point age: none yet");
   else

@@ -50,6 +50,14 @@ inline OverrunCause CauseOfOverrun(std::int64_t tick_duration_ns, std::int64_t p
   return tick_duration_ns > period_ns ? OverrunCause::kLongTick : OverrunCause::kLateWake;
 }
 
+// A loop's counters as one consistent value: what a panel or a benchmark shows while the loop runs.
+struct LoopCounts {
+  std::uint64_t ticks = 0;
+  std::uint64_t overruns = 0;
+  std::uint64_t overruns_late_wake = 0;  // by cause (OverrunCause): overruns_late_wake + overruns_long_tick == overruns
+  std::uint64_t overruns_long_tick = 0;
+};
+
 struct LoopStats {
   std::int64_t period_ns = 0;
   std::uint64_t ticks = 0;
@@ -62,6 +70,7 @@ struct LoopStats {
   LatencyHistogram tick_duration;   // the task's own time per tick
   std::int64_t previous_start_ns = -1;  // the last tick's start (for the jitter), -1 before the first
 
+  LoopCounts counts() const noexcept { return {ticks, overruns, overruns_late_wake, overruns_long_tick}; }
   double overrun_rate() const noexcept { return ticks ? static_cast<double>(overruns) / static_cast<double>(ticks) : 0; }
 
   // Accounts one tick that was due at deadline_ns, started at start_ns and ended at end_ns (the loop's clock, ns),

@@ -45,17 +45,33 @@ PeriodicLoop::PeriodicLoop(const MonotonicClock& clock, PeriodicTask& task, cons
 
 PeriodicLoop::~PeriodicLoop() { Stop(); }
 
+std::string SetFifoPriority(std::thread& thread, int priority) {
+  sched_param param{};
+  param.sched_priority = priority;
+  const int err = pthread_setschedparam(thread.native_handle(), SCHED_FIFO, &param);
+  return err == 0 ? std::string() : std::strerror(err);
+}
+
+bool FifoPermitted(int priority) {
+  // The calling thread tries, then goes back to its own policy (lowering is always permitted).
+  int policy = SCHED_OTHER;
+  sched_param own{};
+  if (pthread_getschedparam(pthread_self(), &policy, &own) != 0) return false;
+  sched_param param{};
+  param.sched_priority = priority;
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) return false;
+  pthread_setschedparam(pthread_self(), policy, &own);
+  return true;
+}
+
 std::string PeriodicLoop::Start(std::int64_t start_ns) {
   stop_.store(false);
   thread_ = std::thread([this, start_ns] { Run(start_ns); });
   if (!options_.try_realtime) return {};
-  sched_param param{};
-  param.sched_priority = options_.fifo_priority;
-  const int err = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);
-  if (err == 0) return {};
-  return options_.name + ": SCHED_FIFO priority " + std::to_string(options_.fifo_priority) + " refused (" +
-         std::strerror(err) + "); running at normal priority, expect larger jitter (grant CAP_SYS_NICE or an " +
-         "rtprio limit)";
+  const std::string error = SetFifoPriority(thread_, options_.fifo_priority);
+  if (error.empty()) return {};
+  return options_.name + ": SCHED_FIFO priority " + std::to_string(options_.fifo_priority) + " refused (" + error +
+         "); running at normal priority, expect larger jitter (grant CAP_SYS_NICE or an rtprio limit)";
 }
 
 void PeriodicLoop::Stop() noexcept {
@@ -73,8 +89,7 @@ void PeriodicLoop::Run(std::int64_t start_ns) noexcept {
     const std::int64_t end = MonotonicNowNs() - epoch;
     // Missed deadlines are skipped, not made up: the next tick is the first deadline still ahead.
     deadline = stats_.AccountTick(deadline, start, end);
-    ticks_.store(stats_.ticks, std::memory_order_relaxed);
-    overruns_.store(stats_.overruns, std::memory_order_relaxed);
+    counts_.Publish(stats_.counts());
   }
 }
 

@@ -27,6 +27,7 @@
 #include "src/core/rt/clock.h"
 #include "src/core/rt/loop_stats.h"
 #include "src/core/rt/periodic_task.h"
+#include "src/core/rt/snapshot.h"
 
 namespace robossis::rt {
 
@@ -38,6 +39,17 @@ inline constexpr int kActuationLoopFifoPriority = 81;
 // A simulated robot's own loop (the plant a back end runs beside the controller) yields to both: it stands for
 // hardware that would not share the controller's CPU [assumed].
 inline constexpr int kPlantLoopFifoPriority = 79;
+
+// The threads that carry set-points and status between the loops (a DDS link end's send and receive threads, and
+// Cyclone DDS's receive, delivery and event threads) [assumed]: below every loop, above normal-priority work, so that
+// a busy machine does not hold the set-points back past the follower's watchdog (30 ms).
+inline constexpr int kLinkThreadFifoPriority = 70;
+
+// Puts `thread` on SCHED_FIFO at `priority`. Returns the error text ("" on success); the thread keeps its policy
+// when refused.
+std::string SetFifoPriority(std::thread& thread, int priority);
+// Whether this process may run a thread at SCHED_FIFO `priority` (the calling thread tries it and goes back).
+bool FifoPermitted(int priority);
 
 struct LoopOptions {
   std::string name = "loop";
@@ -63,10 +75,13 @@ class PeriodicLoop {
   // none): SCHED_FIFO refused.
   std::string Start(std::int64_t start_ns);
   void Stop() noexcept;  // requests the stop and joins
-  // Safe to read once stopped; ticks() and overruns() at any time.
+  // Safe to read once stopped; counts() (the stats' counters after the last tick, overruns by cause) at any time.
   const LoopStats& stats() const noexcept { return stats_; }
-  std::uint64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
-  std::uint64_t overruns() const noexcept { return overruns_.load(std::memory_order_relaxed); }
+  LoopCounts counts() const noexcept {
+    LoopCounts c;
+    counts_.Read(c);
+    return c;
+  }
   const LoopOptions& options() const noexcept { return options_; }
 
  private:
@@ -76,8 +91,7 @@ class PeriodicLoop {
   LoopOptions options_;
   LoopStats stats_;
   std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> ticks_{0};
-  std::atomic<std::uint64_t> overruns_{0};
+  Snapshot<LoopCounts> counts_;
   std::thread thread_;
 };
 
