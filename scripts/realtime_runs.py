@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
 """The demo's two real-clock runs (section 8: one process; section 9: two processes over secured DDS), repeated
 beside CPU-bound load, with the faults, overruns and speeds of every run: what RELIABILITY.md's fault count at
-load comes from.
+load comes from. A run "with a fault" is one the follower's summary.json does not call clean (`run_clean`: a fault,
+an E-stop, or a follower that stopped following while the leader still sent and did not follow again:
+src/teleop/run_verdict.h); watchdog holds that following resumed from are counted apart (`holds`, `hold_ms`).
 
 Usage: scripts/realtime_runs.py [--runs 10] [--load 1] [--duration-s 17] [--link inprocess,dds] [--out DIR]
 
 --load N starts N busy processes (a shell loop each) for the whole measurement and always stops them. Writes
-DIR/runs.csv (one row per run) and prints a table; exit status 1 if any run faulted or did not complete.
+DIR/runs.csv (one row per run: the verdict's reason and description in `fault`) and prints a table; exit status 1
+if any run was not clean or did not complete.
 """
 import argparse
 import csv
@@ -22,8 +25,9 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 COMMON = ['--device', 'replay:' + str(ROOT / 'data/teleop/fast_hand.csv'), '--method', 'proxy-safe',
           '--follower', 'sim', '--clock', 'real', '--max-speed-mm-s', '100', '--max-angular-speed-deg-s', '20',
           '--no-plots']
-FIELDS = ['link', 'run', 'complete', 'faults', 'follower_ticks', 'follower_overruns', 'follower_overrun_rate',
-          'leader_overruns', 'leader_overrun_rate', 'max_follower_speed_mm_s', 'limit_violations', 'transitions']
+FIELDS = ['link', 'run', 'complete', 'clean', 'fault', 'faults', 'holds', 'hold_ms', 'follower_ticks', 'follower_overruns',
+          'follower_overrun_rate', 'leader_overruns', 'leader_overruns_long_tick', 'leader_overrun_rate',
+          'max_follower_speed_mm_s', 'limit_violations', 'transitions']
 
 
 def start_load(n):
@@ -42,14 +46,18 @@ def stop_load(procs):
 
 def row_of(link, run, leader, follower):
     transitions = follower.get('follower_transitions', [])
-    faults = [t for t in transitions if t['to'] in ('fault', 'estop')]
+    fault = follower['run_fault']
     return {
         'link': link, 'run': run,
         'complete': bool(follower.get('complete')) and bool(leader.get('complete')),
-        'faults': len(faults),
+        'clean': follower['run_clean'] is True,
+        'fault': f"{fault['reason']}: {fault['description']}" if fault else '',
+        'faults': follower['run_faults'],
+        'holds': follower['run_holds'], 'hold_ms': 1e3 * follower['run_hold_s'],
         'follower_ticks': follower['follower_ticks'], 'follower_overruns': follower['follower_overruns'],
         'follower_overrun_rate': follower['follower_overrun_rate'],
-        'leader_overruns': leader['leader_overruns'], 'leader_overrun_rate': leader['leader_overrun_rate'],
+        'leader_overruns': leader['leader_overruns'], 'leader_overruns_long_tick': leader['leader_overruns_long_tick'],
+        'leader_overrun_rate': leader['leader_overrun_rate'],
         'max_follower_speed_mm_s': follower['max_follower_speed_mm_s'],
         'limit_violations': follower['follower_limit_violations'],
         'transitions': '; '.join(f"{t['t_s']:.3f} s {t['from']}->{t['to']} ({t['reason']}"
@@ -101,8 +109,9 @@ def main():
                 for link in links:
                     row = run_once(args.robossis, link, run, args.duration_s, keys, work)
                     rows.append(row)
-                    print(f"[{link} {run}/{args.runs}] faults {row['faults']}, follower overruns "
-                          f"{row['follower_overruns']}/{row['follower_ticks']}, max speed "
+                    print(f"[{link} {run}/{args.runs}] {'clean' if row['clean'] else 'FAULT ' + row['fault']}, "
+                          f"follower overruns {row['follower_overruns']}/{row['follower_ticks']}, leader overruns "
+                          f"{row['leader_overruns']} ({row['leader_overruns_long_tick']} long tick), max speed "
                           f"{row['max_follower_speed_mm_s']:.2f} mm/s", file=sys.stderr, flush=True)
         finally:
             stop_load(load)
@@ -114,18 +123,24 @@ def main():
         writer.writerows(rows)
     os.replace(out / 'runs.csv.tmp', out / 'runs.csv')
 
-    print(f'| link | runs | with a fault | incomplete | follower overrun rate, max | leader overrun rate, max '
-          f'| max follower speed (mm/s) | limit violations |')
-    print('|---|---|---|---|---|---|---|---|')
+    print(f'| link | runs | with a fault | incomplete | watchdog holds, total (longest run\'s ms) | follower overrun rate, max | leader overrun rate, max '
+          f'| leader overruns, max (long tick) | max follower speed (mm/s) | limit violations |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
     bad = False
     for link in links:
         r = [x for x in rows if x['link'] == link]
-        faulted = sum(1 for x in r if x['faults'] > 0)
+        faulted = sum(1 for x in r if not x['clean'])
         incomplete = sum(1 for x in r if not x['complete'])
         bad = bad or faulted > 0 or incomplete > 0
-        print(f"| {link} | {len(r)} | {faulted} | {incomplete} | {max(x['follower_overrun_rate'] for x in r):.2e} "
-              f"| {max(x['leader_overrun_rate'] for x in r):.2e} | {max(x['max_follower_speed_mm_s'] for x in r):.2f} "
+        print(f"| {link} | {len(r)} | {faulted} | {incomplete} "
+              f"| {sum(x['holds'] for x in r)} ({max(x['hold_ms'] for x in r):.1f}) | {max(x['follower_overrun_rate'] for x in r):.2e} "
+              f"| {max(x['leader_overrun_rate'] for x in r):.2e} "
+              f"| {max(x['leader_overruns'] for x in r)} ({max(x['leader_overruns_long_tick'] for x in r)}) "
+              f"| {max(x['max_follower_speed_mm_s'] for x in r):.2f} "
               f"| {sum(x['limit_violations'] for x in r)} |")
+    for x in rows:
+        if not x['clean']:
+            print(f"- {x['link']} run {x['run']}: {x['fault']}")
     print(f'(load: {args.load} CPU-bound process(es); {args.duration_s:g} s per run; rows in {out / "runs.csv"})')
     return 1 if bad else 0
 

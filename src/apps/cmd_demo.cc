@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 
 #include <CLI/CLI.hpp>
 
@@ -48,7 +49,7 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
   demo->callback([&context, options] {
     const auto start = std::chrono::steady_clock::now();
     StagedOutputDir out(options->out, context.Output());
-    DemoContext demo{context, out, options->fast, {}};
+    DemoContext demo{context, out, options->fast, {}, {}};
     demo.report << "# Robossis workbench: simulated session report\n\n"
                 << "Produced by `robossis demo" << (options->fast ? " --fast" : "")
                 << "` on the configuration in `" << context.data_dir.string() << "/config`. "
@@ -83,6 +84,12 @@ void RegisterDemoCommand(CLI::App& app, const AppContext& context) {
     out.Write("report.md", demo.report.str());
     out.Commit();
     demo.Progress("report written to " + (out.target() / "report.md").string());
+    if (!demo.faults.empty()) {
+      std::string all;
+      for (const std::string& f : demo.faults) all += (all.empty() ? "" : "; ") + f;
+      throw std::runtime_error("the report (" + (out.target() / "report.md").string() + ") shows " +
+                               std::to_string(demo.faults.size()) + " fault(s): " + all);
+    }
   });
 }
 

@@ -18,6 +18,8 @@ struct DemoContext {
   const StagedOutputDir& out;
   bool fast = false;       // --fast: smaller grids and shorter runs, for the test suite
   std::ostringstream report;  // Markdown of the report body
+  // What a section found wrong (one line each, naming the section): the report is written, then the demo exits 1.
+  std::vector<std::string> faults;
 
   void Progress(const std::string& message) const;
   // Renders a figure with scripts/plots/<script> (matplotlib). On success appends the image link; otherwise

@@ -87,8 +87,9 @@ void WriteLinkSection(DemoContext& demo) {
     demo.report << " " << FormatFixed(t["t_s"].get<double>(), 3) << " s " << t["from"].get<std::string>() << " → "
                 << t["to"].get<std::string>() << " (" << t["reason"].get<std::string>() << ");";
   }
-  demo.report << " (the last hold is the end of the leader's run: the follower holds, as it would for a lost "
-                 "leader).\n\n";
+  demo.report << " (a hold after the leader's last set-point is the end of the leader's run: the follower holds, "
+                 "as it would for a lost leader).\n\n";
+  ReportRunVerdict(demo, f, "section 9 (link)");
 }
 
 }  // namespace robossis::apps

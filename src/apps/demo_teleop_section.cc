@@ -13,6 +13,7 @@
 #include "src/core/files.h"
 #include "src/core/json_finite.h"
 #include "src/core/units.h"
+#include "src/teleop/run_verdict.h"
 #include "src/teleop/teleop_session.h"
 
 namespace robossis::apps {
@@ -58,17 +59,37 @@ void WriteBilateralPart(DemoContext& demo) {
     const teleop::TeleopOutputs o = teleop::RunTeleop(request, setup, demo.out.Path(name + ".rlog"));
     demo.out.Write(name + ".json", o.summary.dump(2) + "\n");
     const auto& s = o.summary;
-    auto num = [&](const char* key) { return FormatNumber(s[key].get<double>(), "%.3g"); };
+    // A figure the run has no value for (null: the load error of the walls-alone run, which shows no load) is "—".
+    auto num = [&](const char* key) {
+      return s[key].is_number() ? FormatNumber(s[key].get<double>(), "%.3g") : std::string("—");
+    };
     demo.report << "| " << run.name << " | " << num("max_feedback_force_n") << " | " << num("max_force_n") << " | "
                 << num("feedback_energy_j") << " / " << num("feedback_energy_max_j") << " | "
                 << num("feedback_force_error_n_rms") << " | "
-                << FormatFixed(100 * s["tdpa_active_fraction"].get<double>(), 1) << " % | " << num("position_drift_mm")
-                << " |\n";
+                << FormatFixed(100 * s["tdpa_active_fraction"].get<double>(), 1) << " % | "
+                << (s["position_drift_mm"].is_number() ? num("position_drift_mm") : std::string("n/a")) << " |\n";
   }
   demo.report << "\n";
 }
 
 }  // namespace
+
+void ReportRunVerdict(DemoContext& demo, const nlohmann::ordered_json& follower_summary, const std::string& section) {
+  const teleop::RunVerdict v = teleop::ReadRunVerdict(follower_summary);
+  if (v.clean) {
+    demo.report << "The follower followed to the end of the leader's run: no fault";
+    if (v.holds == 0) {
+      demo.report << ", no hold while the leader sent.\n\n";
+    } else {
+      demo.report << "; the watchdog held the robot " << v.holds << " time(s) for a late set-point ("
+                  << FormatFixed(1e3 * v.hold_s, 1) << " ms in all) and following resumed each time.\n\n";
+    }
+    return;
+  }
+  const std::string what = v.judged ? v.description : std::string("the follower's run was not judged (no records)");
+  demo.report << "**FAULT**: " << what << ".\n\n";
+  demo.faults.push_back(section + ": " + what);
+}
 
 std::string OverrunsByCause(const nlohmann::ordered_json& summary, const std::string& loop) {
   const auto count = [&](const std::string& key) { return std::to_string(summary[loop + key].get<std::uint64_t>()); };
@@ -148,6 +169,7 @@ void WriteTeleopSection(DemoContext& demo) {
   }
   demo.report << " set-points accepted / rejected by the follower: " << s["setpoints_accepted"] << " / "
               << s["setpoints_rejected"] << ".\n\n";
+  ReportRunVerdict(demo, s, "section 8 (teleop)");
   for (const std::string& w : warnings) demo.report << "Warning: " << w << "\n\n";
   demo.Figure("teleop_session.py", {"--dir", demo.out.Path("teleop").string()}, "teleop/teleop.png",
               "Hand vs follower, the wrench on the hand, the follower's tightest joint-limit margin, the loop periods");
