@@ -85,6 +85,8 @@ class LiveBoundary {
   bool NeedsRefresh(SliceKind kind, const Eigen::Vector3d& p_FM, const Eigen::Vector3d& rpy) const noexcept;
   // Generates the slice of `kind` at `fixed`; nullptr when that slice is empty (the pose is unreachable).
   std::unique_ptr<LiveSlice> Generate(SliceKind kind, const Eigen::Vector3d& fixed);
+  // Records that the slice of `kind` at `fixed` is being generated (NeedsRefresh measures from it); Generate does it.
+  void MarkGenerated(SliceKind kind, const Eigen::Vector3d& fixed);
   // Makes `slice` the published one of its family and frees the slices nobody can still be reading.
   void Publish(std::unique_ptr<LiveSlice> slice);
   // One refresh step at the latest posted pose: regenerates and publishes each family that needs it. Returns the
@@ -157,7 +159,7 @@ class LivePoseQuery {
 
 // A deterministic stand-in for the background thread, in simulated time: a refresh started at time t from the pose
 // posted at t becomes visible at t + latency (the modelled wall-clock time of one refresh), then the next one
-// starts. Call Step() between real-time ticks.
+// starts. Call Step() between real-time ticks. (The slices are generated when they land, from the poses of t.)
 class SimulatedRefresher {
  public:
   SimulatedRefresher(LiveBoundary& live, double latency_s);
@@ -165,9 +167,13 @@ class SimulatedRefresher {
   void Reset();  // drops a refresh in progress (e.g. a new episode)
 
  private:
+  struct PendingSlice {
+    SliceKind kind;
+    Eigen::Vector3d fixed;
+  };
   LiveBoundary& live_;
   double latency_s_;
-  std::vector<std::unique_ptr<LiveSlice>> pending_;
+  std::vector<PendingSlice> pending_;  // the refresh in progress: generated when it lands
   double ready_at_s_ = 0;
   bool busy_ = false;
 };

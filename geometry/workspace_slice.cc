@@ -4,9 +4,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "geometry/boundary_mesher.h"
+#include "geometry/dexterous_row_bounds.h"
 #include "robot/rsr_kinematics.h"
 #include "src/core/pose.h"
 #include "src/core/units.h"
@@ -24,9 +26,10 @@ std::string Vec(const Eigen::Vector3d& v, double scale) {
 }
 
 // Samples the feasibility on the grid covering `box`; returns the number of feasible nodes and whether one lies on
-// a face of the grid.
-std::size_t SampleGrid(const SliceFeasibility& feasible, const Eigen::AlignedBox3d& box, double spacing,
-                       VoxelGrid* grid, bool* touches_faces) {
+// a face of the grid, and adds the nodes tested to *evaluations. A dexterous slice tests only the nodes its rows'
+// bounds leave (DexterousRowBounds: every other node is infeasible, so the grid is the same).
+std::size_t SampleGrid(const robot::RsrModel& rsr, const SliceFeasibility& feasible, const Eigen::AlignedBox3d& box,
+                       double spacing, VoxelGrid* grid, bool* touches_faces, std::size_t* evaluations) {
   grid->spacing = spacing;
   grid->origin = box.min();
   const Eigen::Vector3d size = box.max() - box.min();
@@ -37,12 +40,20 @@ std::size_t SampleGrid(const SliceFeasibility& feasible, const Eigen::AlignedBox
                                 std::to_string(n_nodes) + " grid nodes; at most 4e8)");
   }
   grid->feasible.assign(static_cast<std::size_t>(n_nodes), 0);
+  std::optional<DexterousRowBounds> rows;
+  if (feasible.kind() == SliceKind::kRsrDexterous) rows.emplace(rsr, RotationFromRpy(feasible.fixed()));
   std::size_t count = 0;
   *touches_faces = false;
   const Eigen::Vector3i& n = grid->dims;
   for (int k = 0; k < n.z(); ++k) {
     for (int j = 0; j < n.y(); ++j) {
-      for (int i = 0; i < n.x(); ++i) {
+      int first = 0, last = n.x() - 1;
+      if (rows) {
+        const Eigen::Vector3d row = grid->Node(0, j, k);
+        if (!rows->Candidates(row.y(), row.z(), row.x(), spacing, n.x(), &first, &last)) continue;
+      }
+      *evaluations += static_cast<std::size_t>(last - first + 1);
+      for (int i = first; i <= last; ++i) {
         if (!feasible(grid->Node(i, j, k))) continue;
         grid->feasible[grid->Index(i, j, k)] = 1;
         ++count;
@@ -151,7 +162,9 @@ WorkspaceSlice GenerateSlice(const robot::RsrModel& rsr, const robot::Sigma7Mode
   auto t0 = std::chrono::steady_clock::now();
   bool touches = false;
   for (int growth = 0;; ++growth) {
-    slice.feasible_nodes = SampleGrid(feasible, box, spec.resolution, &slice.grid, &touches);
+    slice.grid_evaluations = 0;  // the last grid's
+    slice.feasible_nodes =
+        SampleGrid(rsr, feasible, box, spec.resolution, &slice.grid, &touches, &slice.grid_evaluations);
     if (!touches) break;
     if (growth == options.max_box_growths) {
       throw std::runtime_error(std::string(ToString(spec.kind)) + " slice: the feasible region still touches the "

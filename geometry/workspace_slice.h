@@ -87,6 +87,7 @@ struct WorkspaceSlice {
   TriangleMesh mesh;   // closed, outward oriented, vertices on the true boundary (slice SI units)
   MeshStatistics stats;
   std::size_t feasible_nodes = 0;
+  std::size_t grid_evaluations = 0;  // nodes of the grid whose feasibility was tested (the others cannot be feasible)
   double refine_max_bracket = 0;  // largest final bisection bracket over all vertices (slice SI units)
   double seconds_grid = 0, seconds_mesh = 0, seconds_refine = 0;
 };

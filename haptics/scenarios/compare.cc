@@ -1,10 +1,15 @@
 #include "haptics/scenarios/compare.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <mutex>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -287,6 +292,49 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
   m.tick_us_max = tick_us.empty() ? 0 : *std::max_element(tick_us.begin(), tick_us.end());
   if (progress) progress(1.0);
   return run;
+}
+
+std::vector<MethodRun> RunMethods(const Scenario& scenario, const std::vector<std::string>& methods,
+                                  const HapticsConfig& config, const robot::RsrModel& rsr,
+                                  const robot::Sigma7Model& sigma7, const CompareSettings& settings,
+                                  std::shared_ptr<const geometry::BoundaryAtlas> atlas, int jobs,
+                                  const MethodRunEvents& events) {
+  if (jobs < 1) throw std::invalid_argument("jobs: expected at least 1 run at a time, got " + std::to_string(jobs));
+  std::vector<MethodRun> runs(methods.size());
+  std::mutex mutex;  // serialises the events and guards `error`
+  std::exception_ptr error;
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t i = next.fetch_add(1); i < methods.size(); i = next.fetch_add(1)) {
+      try {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (error) return;
+          if (events.started) events.started(i);
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        MethodRun run = RunMethod(scenario, methods[i], config, rsr, sigma7, settings, atlas);
+        const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::lock_guard<std::mutex> lock(mutex);
+        if (events.done) events.done(i, run, wall_s);
+        runs[i] = std::move(run);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        return;
+      }
+    }
+  };
+  const std::size_t threads = std::min(static_cast<std::size_t>(jobs), methods.size());
+  if (threads <= 1) {
+    work();
+  } else {
+    std::vector<std::thread> pool;
+    for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(work);
+    for (std::thread& t : pool) t.join();
+  }
+  if (error) std::rethrow_exception(error);
+  return runs;
 }
 
 std::string TraceCsv(const MethodRun& run) {

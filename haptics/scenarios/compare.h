@@ -33,7 +33,9 @@
 //                               by at most kShallowPenetration* (in the counted unit), and deeper (or beyond the
 //                               reference)
 
+#include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -142,6 +144,25 @@ MethodRun RunMethod(const Scenario& scenario, const std::string& method, const H
                     const robot::RsrModel& rsr, const robot::Sigma7Model& sigma7, const CompareSettings& settings,
                     std::shared_ptr<const geometry::BoundaryAtlas> atlas = nullptr,
                     const std::function<void(double)>& progress = {});
+
+// Several methods on one scenario, each run as RunMethod runs it, up to `jobs` at a time on threads of their own (1:
+// one after the other on the calling thread). The runs share only const inputs and the atlas (read-only), so every
+// metric and trace is the one RunMethod gives alone; only the tick times see the other runs. With `jobs` at most the
+// number of cores each run's ticks have a core of their own on an otherwise idle machine; other load preempts them
+// more often than a run alone (the tick p99 and max then measure the machine more than the method).
+// The events (optional) are called one at a time, never concurrently: `started` when a run begins, `done` when it
+// ended (with its wall time, e.g. to write its trace and free it). The runs are returned in the order of `methods`.
+// Throws std::invalid_argument for jobs < 1; an exception of a run (an unknown method) or of an event is rethrown
+// here once the runs in progress ended (no new run starts after it).
+struct MethodRunEvents {
+  std::function<void(std::size_t index)> started;
+  std::function<void(std::size_t index, MethodRun& run, double wall_s)> done;
+};
+std::vector<MethodRun> RunMethods(const Scenario& scenario, const std::vector<std::string>& methods,
+                                  const HapticsConfig& config, const robot::RsrModel& rsr,
+                                  const robot::Sigma7Model& sigma7, const CompareSettings& settings,
+                                  std::shared_ptr<const geometry::BoundaryAtlas> atlas, int jobs,
+                                  const MethodRunEvents& events = {});
 
 // Output formats.
 std::string TraceCsv(const MethodRun& run);

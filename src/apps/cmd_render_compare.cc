@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -59,17 +60,25 @@ RenderCompareResult RunRenderCompare(const AppContext& context, const RenderComp
   // The hand is placed through the one HC -> RSR frame map, transfer.yaml's, as the teleoperation places it.
   settings.frame = transfer::TransferConfig::FromYaml(context.ConfigPath("transfer.yaml")).mapping.frame();
   settings.trace_decimation = std::max(1, request.trace_decimation);
-  std::string traces, labels;
-  for (const std::string& method : request.methods) {
-    progress("render-compare: " + result.scenario.name + " at " + std::to_string(static_cast<int>(request.rate_hz)) +
-             " Hz, method " + method);
-    result.runs.push_back(haptics::RunMethod(result.scenario, method, config, rsr, sigma7, settings, result.atlas));
-    const std::string trace = request.prefix + "traces/" + method + ".csv";
-    out.Write(trace, haptics::TraceCsv(result.runs.back()));
+  const std::string run_name = "render-compare: " + result.scenario.name + " at " +
+                               std::to_string(static_cast<int>(request.rate_hz)) + " Hz, method ";
+  const auto trace_of = [&request](const std::string& method) { return request.prefix + "traces/" + method + ".csv"; };
+  haptics::MethodRunEvents events;
+  events.started = [&](std::size_t i) { progress(run_name + request.methods[i]); };
+  events.done = [&](std::size_t i, haptics::MethodRun& run, double wall_s) {
+    out.Write(trace_of(request.methods[i]), haptics::TraceCsv(run));
     // The trace is in its file (the figures read it there); the summary and the table need the metrics alone. Held
     // for every method until the scenario's end, the traces were about 80 MB of the demo's peak.
-    std::vector<haptics::TickRecord>().swap(result.runs.back().trace);
-    traces += (traces.empty() ? "" : ",") + out.Path(trace).string();
+    std::vector<haptics::TickRecord>().swap(run.trace);
+    char took[32];
+    std::snprintf(took, sizeof took, "%.1f", wall_s);
+    progress(run_name + request.methods[i] + " took " + took + " s");
+  };
+  result.runs = haptics::RunMethods(result.scenario, request.methods, config, rsr, sigma7, settings, result.atlas,
+                                    request.jobs, events);
+  std::string traces, labels;
+  for (const std::string& method : request.methods) {
+    traces += (traces.empty() ? "" : ",") + out.Path(trace_of(method)).string();
     labels += (labels.empty() ? "" : ",") + method;
   }
   result.summary = haptics::SummaryJson(result.scenario, settings, result.runs);
@@ -107,6 +116,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     bool fast = false;
     bool json = false;
     int trace_decimation = 5;
+    int jobs = 1;
     std::string atlas;
   };
   auto options = std::make_shared<Options>();
@@ -128,6 +138,11 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
   cmd->add_option("--atlas", options->atlas,
                   "Boundary atlas folder for the mesh method (robossis workspace atlas --out DIR); built if absent")
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--jobs", options->jobs,
+                  "Methods run at a time, one thread each (same results; keep it at most the number of cores, so "
+                  "each method's ticks have a core of their own)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   cmd->add_flag("--fast", options->fast, "Fewer edges and shorter paths");
   cmd->add_flag("--json", options->json, "Print summary.json to stdout");
   cmd->callback([&context, options] {
@@ -137,6 +152,7 @@ void RegisterRenderCompareCommand(CLI::App& app, const AppContext& context) {
     request.rate_hz = options->rate_hz;
     request.fast = options->fast;
     request.trace_decimation = options->trace_decimation;
+    request.jobs = options->jobs;
     request.atlas_dir = options->atlas;
     // A --scenario that names an existing path is a CSV file this run reads.
     std::error_code ec;

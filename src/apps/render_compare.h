@@ -18,6 +18,9 @@ struct RenderCompareRequest {
   double rate_hz = 1000;
   bool fast = false;
   int trace_decimation = 1;
+  // Methods run at a time, each on a thread of its own (haptics::RunMethods): at most the number of cores, so the
+  // tick times stay those of a run alone on its core.
+  int jobs = 1;
   std::string prefix;  // sub-folder inside the output folder ("" or "rendering/push-edges-1000hz/")
   // Boundary atlas for the mesh method: loaded from atlas_dir if set, else built (coarse with `fast`) into
   // <out>/<prefix>atlas/ — or reused from `atlas` if already loaded.

@@ -159,6 +159,46 @@ TEST_F(SliceTest, HcSlicesAreClosedAndTheWristIsTheRangeBox) {
   EXPECT_NEAR(w.stats.volume / box, 1.0, 0.03);
 }
 
+// The dexterous grid tests only the nodes its rows' bounds leave (DexterousRowBounds): the grid must be the one that
+// testing every node gives, at the live slices' 4 mm and orientations over the workspace's tilt and twist.
+TEST_F(SliceTest, DexterousGridIsTheOneEveryNodeTestedGives) {
+  std::mt19937 gen{42};
+  std::uniform_real_distribution<double> tilt(-DegToRad(20), DegToRad(20));
+  std::uniform_real_distribution<double> twist(-DegToRad(40), DegToRad(40));
+  int compared = 0;
+  for (int n = 0; n < 12; ++n) {
+    const Eigen::Vector3d rpy(tilt(gen), tilt(gen), twist(gen));
+    WorkspaceSlice slice;
+    try {
+      slice = GenerateSlice(*rsr_, *hc_, {SliceKind::kRsrDexterous, rpy, 0.004});
+    } catch (const std::runtime_error&) {
+      continue;  // unreachable orientation: no grid to compare
+    }
+    const SliceFeasibility feasible(*rsr_, *hc_, SliceKind::kRsrDexterous, rpy);
+    const VoxelGrid& g = slice.grid;
+    std::size_t differ = 0, nodes_feasible = 0;
+    for (int k = 0; k < g.dims.z(); ++k) {
+      for (int j = 0; j < g.dims.y(); ++j) {
+        for (int i = 0; i < g.dims.x(); ++i) {
+          const bool exact = feasible(g.Node(i, j, k));
+          nodes_feasible += exact;
+          differ += exact != (g.feasible[g.Index(i, j, k)] == 1);
+        }
+      }
+    }
+    EXPECT_EQ(differ, 0u) << "rpy (deg) " << (rpy * kRadToDeg).transpose();
+    EXPECT_EQ(nodes_feasible, slice.feasible_nodes);
+    ++compared;
+  }
+  EXPECT_GE(compared, 8);
+}
+
+TEST_F(SliceTest, DexterousGridSkipsMostNodesNoArmReaches) {
+  const std::size_t nodes = dexterous_->grid.feasible.size();
+  EXPECT_GE(dexterous_->grid_evaluations, dexterous_->feasible_nodes);
+  EXPECT_LT(dexterous_->grid_evaluations, nodes / 2) << dexterous_->grid_evaluations << " of " << nodes;
+}
+
 TEST_F(SliceTest, NonPositiveResolutionIsRejected) {
   for (double h : {0.0, -0.002, std::nan("")}) {
     EXPECT_THROW(GenerateSlice(*rsr_, *hc_, {SliceKind::kRsrDexterous, {0, 0, 0}, h}), std::invalid_argument);

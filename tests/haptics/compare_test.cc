@@ -235,5 +235,53 @@ TEST(Compare, HandFarBeyondTheReferenceIsCountedNotCapped) {
             std::string::npos);
 }
 
+// Several methods at a time on threads of their own: every metric and trace is the one RunMethod gives alone (only
+// the tick times, measured on the machine, may differ).
+TEST(Compare, RunMethodsInParallelGivesTheRunsOfRunMethod) {
+  const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
+  const HapticsConfig config = FastConfig();
+  const Scenario s = MakeScenario("strike", Rsr(), config.hand, config.strike_hand_stiffness_n_per_m, true);
+  const CompareSettings settings;
+  const std::vector<std::string> methods = {"pointcloud", "mesh-live", "proxy", "proxy-pc"};
+  std::vector<MethodRun> alone;
+  for (const std::string& m : methods) alone.push_back(RunMethod(s, m, config, Rsr(), sigma7, settings));
+  std::vector<std::size_t> started, done;
+  MethodRunEvents events;
+  events.started = [&](std::size_t i) { started.push_back(i); };
+  events.done = [&](std::size_t i, MethodRun& run, double wall_s) {
+    EXPECT_EQ(run.method, methods[i]);
+    EXPECT_GE(wall_s, 0.0);
+    done.push_back(i);
+  };
+  std::vector<MethodRun> parallel = RunMethods(s, methods, config, Rsr(), sigma7, settings, nullptr, 2, events);
+  ASSERT_EQ(parallel.size(), methods.size());
+  EXPECT_EQ(started.size(), methods.size());
+  EXPECT_EQ(done.size(), methods.size());
+  // Tick times aside (wall clock), the summaries and the traces are the same.
+  auto without_tick_times = [](std::vector<MethodRun> runs) {
+    for (MethodRun& run : runs) {
+      run.metrics.tick_us_p50 = run.metrics.tick_us_p99 = run.metrics.tick_us_max = 0;
+      for (TickRecord& r : run.trace) r.tick_us = 0;
+    }
+    return runs;
+  };
+  const std::vector<MethodRun> a = without_tick_times(alone), p = without_tick_times(parallel);
+  EXPECT_EQ(SummaryJson(s, settings, a).dump(), SummaryJson(s, settings, p).dump());
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    EXPECT_EQ(p[i].method, methods[i]);
+    EXPECT_FALSE(a[i].trace.empty());
+    EXPECT_EQ(TraceCsv(a[i]), TraceCsv(p[i])) << methods[i];
+  }
+}
+
+TEST(Compare, RunMethodsRefusesNoJobsAndPassesOnARunsError) {
+  const HapticsConfig config = FastConfig();
+  const Scenario s = MakeScenario("strike", Rsr(), config.hand, config.strike_hand_stiffness_n_per_m, true);
+  const robot::Sigma7Model sigma7 = robot::Sigma7Model::Default();
+  EXPECT_THROW(RunMethods(s, {"proxy"}, config, Rsr(), sigma7, CompareSettings{}, nullptr, 0), std::invalid_argument);
+  EXPECT_THROW(RunMethods(s, {"proxy", "no-such-method"}, config, Rsr(), sigma7, CompareSettings{}, nullptr, 2),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace robossis::haptics
