@@ -311,7 +311,10 @@ void RegisterBilateralMatrix(CLI::App& app) {
     std::vector<double> delays_ms{0, 10, 25, 50, 100, 200};
     double loss = 0.05;
     double release_s = 0;
+    double reserve_j = teleop::FeedbackPassivityConfig{}.reserve_j;
+    double rest_damping_n_s_per_m = teleop::FeedbackPassivityConfig{}.rest_damping_n_s_per_m;
     bool let_go_detector = false;
+    double let_go_confirm_s = teleop::LetGoConfig{}.confirm_s;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -330,13 +333,29 @@ void RegisterBilateralMatrix(CLI::App& app) {
                   "feedback.release_s)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
+  cmd->add_option("--reserve-j", o->reserve_j,
+                  "The energy reserve over which the load fades as the budget empties (0: cut tick by tick; "
+                  "src/teleop/feedback_passivity.h reserve_j)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--rest-damping-n-s-per-m", o->rest_damping_n_s_per_m,
+                  "With --reserve-j: the load's faded share shown as a damper up to this much")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   cmd->add_flag("--let-go-detector", o->let_go_detector,
                "The leader drops the load and damps the device once it believes the operator let go "
                "(src/teleop/let_go_detector.h)");
+  cmd->add_option("--let-go-confirm-s", o->let_go_confirm_s,
+                  "With --let-go-detector: how long the device must move as its own mass before the let-go is believed")
+      ->check(CLI::Range(0.001, 1.0))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the rows as JSON");
   cmd->callback([o] {
     teleop::HarnessParams base;
+    base.let_go.confirm_s = o->let_go_confirm_s;
     base.passivity.release_s = o->release_s;
+    base.passivity.reserve_j = o->reserve_j;
+    base.passivity.rest_damping_n_s_per_m = o->rest_damping_n_s_per_m;
     base.detect_let_go = o->let_go_detector;
     base.duration_s = o->duration_s;
     base.loss = o->loss;
@@ -352,14 +371,15 @@ void RegisterBilateralMatrix(CLI::App& app) {
       PrintJson(rows);
       return;
     }
-    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s %9s\n", "scenario", "delay", "scheme", "E_fb_J",
-                "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s", "E_F_exc");
+    std::printf("%-8s %6s %-8s %10s %10s %9s %8s %8s %7s %7s %6s %6s %9s %6s %8s\n", "scenario", "delay", "scheme",
+                "E_fb_J", "E_fb_max", "obs_min", "dissip", "f_rms_N", "x_rms", "drift", "hf", "rest_s", "E_F_exc",
+                "active", "let_go_s");
     for (const auto& r : results) {
-      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f %9.4f\n",
+      std::printf("%-8s %6.0f %-8s %10.4f %10.4f %9.4f %8.3f %8.3f %7.2f %7.3f %6.3f %6.2f %9.4f %6.3f %8.3f\n",
                   teleop::ToString(r.params.scenario), 1e3 * r.params.one_way_delay_s,
                   teleop::ToString(r.params.scheme), r.feedback_energy_j, r.max_feedback_energy_j, r.min_observer_j,
                   r.dissipated_share, r.force_error_n_rms, r.position_error_mm_rms, r.drift_mm, r.force_hf_share,
-                  r.rest_after_event_s, r.max_follower_excess_j);
+                  r.rest_after_event_s, r.max_follower_excess_j, r.active_fraction, r.let_go_detected_s);
     }
   });
 }

@@ -34,6 +34,9 @@ void AddTeleopOptions(CLI::App& cmd, TeleopCliOptions& o, TeleopUnits units) {
     cmd.add_option("--feedback-passivity", o.feedback_passivity,
                    "The load's passivity controller: off | classic (one-port) | network (delay-aware; default: "
                    "leader.yaml feedback.passivity)");
+    cmd.add_flag("--let-go-detector", o.let_go_detector,
+                 "The leader drops the load and damps the device once it believes the operator let go "
+                 "(src/teleop/let_go_detector.h; default: leader.yaml feedback.detect_let_go)");
   }
   if (units != TeleopUnits::kLeader) {
     cmd.add_option("--follower", o.follower,
@@ -94,6 +97,7 @@ TeleopInputs::TeleopInputs(const AppContext& context, const TeleopCliOptions& o,
   request.feedback_gain = o.feedback_gain.value_or(-1.0);
   if (o.feedback_passivity) teleop::ParseFeedbackPassivityScheme("--feedback-passivity", *o.feedback_passivity);
   request.feedback_passivity = o.feedback_passivity.value_or("");
+  request.let_go_detector = o.let_go_detector;
   if ((o.sim_load_n > 0 || o.sim_load_nm > 0) && o.follower != "sim") {
     throw std::invalid_argument("--sim-load-n/--sim-load-nm: only the Bullet follower (--follower sim) has muscles");
   }
@@ -106,6 +110,7 @@ std::vector<std::string> FeedbackArgs(const TeleopCliOptions& o) {
   if (o.feedback) args.insert(args.end(), {"--feedback", *o.feedback});
   if (o.feedback_gain) args.insert(args.end(), {"--feedback-gain", std::to_string(*o.feedback_gain)});
   if (o.feedback_passivity) args.insert(args.end(), {"--feedback-passivity", *o.feedback_passivity});
+  if (o.let_go_detector) args.push_back("--let-go-detector");
   return args;
 }
 

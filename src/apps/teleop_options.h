@@ -33,6 +33,7 @@ struct TeleopCliOptions {
   std::optional<std::string> feedback;
   std::optional<double> feedback_gain;
   std::optional<std::string> feedback_passivity;
+  bool let_go_detector = false;
   // The Bullet follower's muscle traction (N along the femur axis, N·m about it).
   double sim_load_n = 0;
   double sim_load_nm = 0;

@@ -62,6 +62,7 @@ void ToWire(const teleop::SetPointMessage& m, robossis_msgs_msg_dds__SetPoint_& 
   w.clutch = (m.flags & teleop::kSetPointClutched) != 0;
   w.presence = (m.flags & teleop::kSetPointPresence) != 0;
   w.flags = m.flags;  // all bits, including those added after clutch and presence
+  w.hand_energy_in_j = m.hand_energy_in_j;
 }
 
 void FromWire(const robossis_msgs_msg_dds__SetPoint_& w, teleop::SetPointMessage& m) noexcept {
@@ -73,6 +74,7 @@ void FromWire(const robossis_msgs_msg_dds__SetPoint_& w, teleop::SetPointMessage
                w.twist.angular.x, w.twist.angular.y, w.twist.angular.z};
   m.flags = static_cast<std::uint8_t>(w.flags | (w.clutch ? teleop::kSetPointClutched : 0) |
                                       (w.presence ? teleop::kSetPointPresence : 0));
+  m.hand_energy_in_j = w.hand_energy_in_j;
 }
 
 const char* CommandName(teleop::StateCommand c) noexcept {

@@ -141,7 +141,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
 
   double x_h = 0, v_h = 0, x_f = 0, v_f = 0, w = 0, dissipated = 0;
   std::vector<double> hand_x(n), env_f(n), shown_f(n), follower_x(n);
-  std::uint64_t active = 0;
+  std::uint64_t active = 0, taper_active = 0;
   double force_err2 = 0, pos_err2 = 0;
   std::size_t compared = 0;
   double last_moving_s = -1;
@@ -160,6 +160,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
     const double f_uncontrolled = CapWrench(Vector6d::Zero(), wanted, p.max_force_n, 1.0).displayed[0];
     dissipated += std::max(0.0, (f_uncontrolled - f_shown) * v_h * dt);
     if (port.active()) ++active;
+    if (port.taper_active()) ++taper_active;
     r.max_force_n = std::max(r.max_force_n, std::abs(f_shown));
 
     // The hand: the operator's grasp tracking the intent (held still before an event; gone after a let-go).
@@ -178,7 +179,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
     x_h += v_h * dt;
     if (p.detect_let_go && !let_go_seen) {
       let_go_seen = detector.Update(Eigen::Vector3d(f_shown, 0, 0), Eigen::Vector3d(v_before, 0, 0),
-                                    Eigen::Vector3d(v_h, 0, 0), dt);
+                                    Eigen::Vector3d(v_h, 0, 0), dt, port.damping());
       if (let_go_seen) r.let_go_detected_s = t;
     }
     if (uniform(gen) >= p.loss) {
@@ -248,6 +249,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
     r.rest_after_event_s = last_moving_s < 0 ? 0.0 : last_moving_s < end - 2 * dt ? last_moving_s - p.release_at_s : -1.0;
   }
   r.active_fraction = n ? static_cast<double>(active) / static_cast<double>(n) : 0;
+  r.taper_active_fraction = n ? static_cast<double>(taper_active) / static_cast<double>(n) : 0;
   return r;
 }
 
@@ -287,6 +289,7 @@ nlohmann::ordered_json ToJson(const HarnessResult& r) {
   j["follower_excess_max_j"] = r.max_follower_excess_j;
   j["let_go_detected_s"] = r.let_go_detected_s;
   j["active_fraction"] = r.active_fraction;
+  j["taper_active_fraction"] = r.taper_active_fraction;
   j["max_force_n"] = r.max_force_n;
   return j;
 }

@@ -79,7 +79,8 @@ struct HarnessResult {
   // sample (<= 0: the follower's port passive in the network form's sense; meaningful for kNetwork only).
   double max_follower_excess_j = 0;
   double let_go_detected_s = -1;      // when the detector believed the operator let go (-1: never)
-  double active_fraction = 0;         // samples the controller acted in
+  double active_fraction = 0;         // samples the controller changed the force beyond its tolerance in
+  double taper_active_fraction = 0;   // samples its taper alone did
   double max_force_n = 0;
 };
 

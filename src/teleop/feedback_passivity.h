@@ -26,15 +26,26 @@
 // alpha chosen to bring the output energy back to the budget in that sample; alpha is capped
 // (max_damping_*: a large damper at a near-zero velocity is what makes TDPA chatter); beyond the cap the load itself
 // is scaled down just enough for the sample (cut where the caps would turn it), so the bound holds at every sample.
-// Chatter: the tick-by-tick controller switches its damper on and off and drops the load for single samples, a force
-// rich above 25 Hz. Its action is therefore released smoothly (release_s): the damper decays exponentially from
-// its last value and the load's share recovers at a bounded rate, while any sample that needs more still gets it at
-// once. This follows the gradient-limited controller action of Panzirsch et al. (DLR: the passivity controller's
-// force limited in its rate of change rather than switched tick by tick), in its simplest form: a decaying damper
-// and a slowly restored load only ever remove energy from the port, so the bound still holds at every sample.
+// Chatter, and where it comes from: without a controller the displayed force has <= 5 % of its power above 25 Hz in
+// every cell of `robossis bilateral-matrix` (the 1 kHz set-points seen through delay, jitter and loss, and the hand's
+// grasp stiffness, add little); the tick-by-tick controller puts 7-52 % there at >= 25 ms: at the budget's edge it
+// cuts the load for a sample as the sign of the power flips, and switches its damper on and off tick by tick.
+// Two smoothings, each only ever taking energy from the port, so the bound still holds at every sample:
+//   - the energy-reserve taper (reserve_j, the default): the load's component along the hand's motion, while it would
+//     give the hand energy, is scaled by the square root of the energy the port may still give over a reserve, so the
+//     output energy approaches the budget smoothly instead of running into it; the load's share comes back with a time
+//     constant once the hand pays again, and the share it cuts is shown as a damper (rest_damping_n_s_per_m) that is
+//     not credited to the budget, so that a device the operator let go is brought to rest. A passivity-preserving
+//     smoothing of the controller's action in the spirit of Ryu and Preusche's reference energy following (ICRA 2007:
+//     the observed energy is made to follow a smooth reference rather than being reset to zero sample by sample) and of
+//     Chawda and O'Malley's gradient-limited TDPA (the controller's force limited in its rate of change). Share above
+//     25 Hz <= 2.7 %.
+//   - the released action (release_s, when reserve_j is 0): the damper decays exponentially from its last value and
+//     the load's share recovers at a bounded rate (<= 7.6 %, but the load is held down).
 //
 // Real time: Apply() is noexcept, allocation-free.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -53,10 +64,42 @@ struct FeedbackPassivityConfig {
   // (15 N·s/m, paper §VI-A), 0.05 N·m·s/rad the same share of the torque cap; the sigma.7 renders both stably.
   double max_damping_n_s_per_m = 30.0;
   double max_damping_nm_s_per_rad = 0.05;
-  // [assumed] The controller's action released over this time constant (0: sample by sample, the classic TDPA
-  // controller, which chatters); 0.25 s brings the force's share above 25 Hz from up to 52 % to <= 7.6 % (classic)
-  // and <= 5.5 % (network) in `robossis bilateral-matrix --release-s 0.25`, at a price in force tracking (README).
+  // [assumed] With reserve_j 0: the controller's action released over this time constant (0: sample by sample, the
+  // classic TDPA controller, which chatters); 0.25 s brings the force's share above 25 Hz from up to 52 % to <= 7.6 %
+  // (classic) and <= 5.5 % (network) in `robossis bilateral-matrix --reserve-j 0 --release-s 0.25`, at a price in
+  // force tracking (README).
   double release_s = 0;
+  // The energy-reserve taper (reserve_j > 0; release_s then unused). While the load's component along the hand's motion
+  // would give the hand energy, its share falls to sqrt(min(1, E_left/reserve_j)), E_left what the port may still give:
+  // the force fades as the budget empties instead of being cut at zero. Continuous in the (continuous) remaining
+  // energy, it puts no step into the force, and the output energy only approaches the budget, so the tick-by-tick
+  // controller underneath seldom acts. The square root ends the fade in finite time (a linear share leaves a device let
+  // go creeping at the speed where the load and the damper below cancel, the remaining energy decaying only
+  // hyperbolically). [assumed] 0.01 J, a fifth of what the hand pays pressing 15 mm into the 20 kN/m wall at gain 0.025
+  // (`robossis bilateral-matrix`: 0.01, 0.03 and 0.1 J keep the share above 25 Hz at <= 2.7, 3.3 and 5.7 %; the
+  // smallest fades the least load).
+  double reserve_j = 0.01;
+  // [assumed] With the taper, the load's share comes back toward 1 with this time constant once the hand gives
+  // energy again (a step back to the full load would chatter): 20 ms puts the step's power below 8 Hz.
+  double rise_s = 0.02;
+  // With the taper, the share of the load it cuts is shown as a damper up to this much (N·s/m): the hand moving
+  // with an exhausted load is slowed, so a device let go comes to rest rather than coasting on its own friction.
+  // A damper only takes energy; what it takes is not credited to the budget (a device let go would otherwise spend
+  // it on the load again and creep). [assumed] 10 N·s/m: the 0.2 kg device settles in ~0.02 s, below the walls'
+  // 15 N·s/m that the hand already feels.
+  double rest_damping_n_s_per_m = 10;
+  // [assumed] The taper's damper fades with this time constant once the load stops pushing the hand along its motion
+  // (0.1 s: a device let go stops in the first ~0.05 s; a held hand feels it fade within a tenth of a second).
+  double rest_hold_s = 0.1;
+  // [assumed] Below these speeds (the harness's "at rest", 1 mm/s, and 0.01 rad/s) the taper fades the load's
+  // component across the motion too, wholly at standstill: there the direction of the motion means nothing.
+  double still_m_s = 0.001;
+  double still_rad_s = 0.01;
+  // [assumed] The controller counts as acting on a sample (active(), summary.json tdpa_active_fraction) when it
+  // changed the displayed force or torque by more than these: a hundredth of the let-go detector's 1 N, and the same
+  // share of the device's 0.3 N·m torque cap (the taper's share below 1 on a load across the motion changes nothing).
+  double active_tolerance_n = 0.01;
+  double active_tolerance_nm = 0.0002;
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -77,6 +120,13 @@ struct FeedbackPortEnergies {
   double out_j = 0;  // the port gave the hand (P > 0)
 };
 
+// What one sample of the port's power (W, > 0: the port gives the hand) over dt adds to the port's books.
+inline FeedbackPortEnergies PortEnergiesOver(double power_w, double dt) noexcept {
+  FeedbackPortEnergies e;
+  (power_w > 0 ? e.out_j : e.in_j) = std::abs(power_w) * dt;
+  return e;
+}
+
 class FeedbackPassivity {
  public:
   explicit FeedbackPassivity(const FeedbackPassivityConfig& config);
@@ -94,21 +144,34 @@ class FeedbackPassivity {
   // The observer: the scheme's budget minus the output energy (>= 0 while the port is passive in the scheme's
   // sense; for kOff the one-port observer E_in − E_out, which goes negative when the delayed feedback is active).
   double observed_j() const noexcept { return observed_j_; }
-  bool active() const noexcept { return active_; }      // the controller changed the feedback this sample
+  // The controller (taper, dampers, cut) changed the displayed wrench by more than the tolerances this sample.
+  bool active() const noexcept { return active_; }
+  // The taper alone changed the load by more than the tolerances this sample.
+  bool taper_active() const noexcept { return taper_active_; }
   double damping() const noexcept { return damping_; }  // alpha of this sample (linear, N·s/m)
 
  private:
   double Budget(double remote_in_j) const noexcept;
   void Book(double power, double dt, double remote_in_j) noexcept;
+  // The shown feedback differs from the uncontrolled one by more than the tolerances.
+  bool Changed(const Vector6d& shown, const Vector6d& uncontrolled) const noexcept;
+  // The load with the taper's share of its working part, and the taper's damper (reserve_j > 0).
+  Vector6d Taper(const Vector6d& feedback_O, const Vector6d& twist_O, double allowed, double dt,
+                 double& alpha) noexcept;
   FeedbackPassivityConfig config_;
   FeedbackPortEnergies energies_;
   double observed_j_ = 0;
   bool active_ = false;
+  bool taper_active_ = false;
   double damping_ = 0;
   // The last sample's action (the smoothed controller starts from it).
   double alpha_held_ = 0;
   double beta_held_ = 0;
   double lambda_held_ = 1;
+  // The taper's share of the load's working part, and what its damper took from the hand (in the books, in_j, but
+  // not in the budget).
+  double taper_share_ = 1;
+  double uncredited_j_ = 0;
 };
 
 }  // namespace robossis::teleop

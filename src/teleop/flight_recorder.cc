@@ -31,6 +31,8 @@ StreamSpec LeaderStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, feedback_O, "N|N.m"),        ROBOSSIS_LOG_FIELD(R, feedback_shown, ""),
       ROBOSSIS_LOG_FIELD(R, feedback_energy_in_j, "J"),  ROBOSSIS_LOG_FIELD(R, feedback_energy_out_j, "J"),
       ROBOSSIS_LOG_FIELD(R, passivity_observed_j, "J"),  ROBOSSIS_LOG_FIELD(R, passivity_active, ""),
+      ROBOSSIS_LOG_FIELD(R, taper_active, ""),
+      ROBOSSIS_LOG_FIELD(R, let_go, ""),                 ROBOSSIS_LOG_FIELD(R, follower_stamp_ns, "ns"),
   };
   return s;
 }
@@ -59,6 +61,8 @@ StreamSpec FollowerStreamSpec() {
       ROBOSSIS_LOG_FIELD(R, command_time_s, "s"),
       ROBOSSIS_LOG_FIELD(R, wrench_F, "N|N.m"),        ROBOSSIS_LOG_FIELD(R, port_energy_in_j, "J"),
       ROBOSSIS_LOG_FIELD(R, port_energy_out_j, "J"),
+      ROBOSSIS_LOG_FIELD(R, port_budgeted, ""),        ROBOSSIS_LOG_FIELD(R, port_budget_j, "J"),
+      ROBOSSIS_LOG_FIELD(R, true_load_known, ""),      ROBOSSIS_LOG_FIELD(R, true_wrench_F, "N|N.m"),
   };
   return s;
 }

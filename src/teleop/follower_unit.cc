@@ -115,6 +115,7 @@ void FollowerUnit::Tick() noexcept {
       setpoint_sequence_ = message.sequence;
       setpoint_stamp_ns_ = message.stamp_ns;
       setpoint_flags_ = message.flags;
+      setpoint_hand_energy_j_ = message.hand_energy_in_j;
     } else {
       ++counters_.setpoints_rejected;
     }
@@ -167,6 +168,7 @@ void FollowerUnit::Tick() noexcept {
   } else {
     need_anchor_ = true;
   }
+  step *= BudgetedStepShare(step);
   robot::FeasibleMotionResult guarded;
   if (step.isZero(0.0)) {
     guarded.X_FM = X_cmd_;
@@ -214,6 +216,11 @@ void FollowerUnit::Tick() noexcept {
   }
 
   ObserveWrench(measured, dt);
+  rec.true_load_known = true_load_known_;
+  if (true_load_ != nullptr && measured.time_s != rec.meas_time_s) {  // a new measurement (rec: the last tick's)
+    const Vector6d W = true_load_->Evaluate(measured.X_FM, twist_cmd_.head<3>(), twist_cmd_.tail<3>()).wrench_P_F;
+    StoreVector<6>(W, rec.true_wrench_F);
+  }
 
   // 6. Status (decimated) and the record.
   if (now >= next_status_s_) {
@@ -234,8 +241,9 @@ void FollowerUnit::Tick() noexcept {
   StoreVector<6>(measured.q, rec.meas_joints);
   StoreVector<6>(measured.effort, rec.effort);
   StoreVector<6>(wrench_F_, rec.wrench_F);
-  rec.port_energy_in_j = port_energy_in_j_;
-  rec.port_energy_out_j = port_energy_out_j_;
+  rec.port_energy_in_j = port_.energies().in_j;
+  rec.port_energy_out_j = port_.energies().out_j;
+  rec.port_budgeted = budget_running_;
   rec.meas_min_margin = ik.tightest().margin;
   rec.meas_feasible = ik.feasible;
   rec.state = machine_.state();
@@ -257,12 +265,33 @@ void FollowerUnit::ObserveWrench(const robot::RsrFollowerState& measured, double
     wrench_source_ = WrenchSource::kNone;
     return;
   }
-  wrench_F_ = EstimateExternalWrench(model_, measured.X_FM, measured.effort, config_.wrench);
-  wrench_source_ = WrenchSource::kDriveEfforts;
-  // The port's power at the commanded twist (the drives are position controlled: the ring moves as commanded).
-  // W·v > 0: the environment pushes the ring along its motion, energy enters the network here.
-  const double power = wrench_F_.dot(twist_cmd_);
-  (power > 0 ? port_energy_in_j_ : port_energy_out_j_) += std::abs(power) * dt;
+  // The estimate (the Jacobian of eq. 15 at the measured pose) changes only with a new measurement: the Bullet plant
+  // measures at its 1 kHz physics step, the ticks run at 10 kHz.
+  if (wrench_source_ == WrenchSource::kNone || measured.time_s != wrench_meas_time_s_) {
+    wrench_F_ = EstimateExternalWrench(model_, measured.X_FM, measured.effort, config_.wrench);
+    wrench_meas_time_s_ = measured.time_s;
+    wrench_source_ = WrenchSource::kDriveEfforts;
+  }
+  // The port's energy over the commanded step (the drives are position controlled: the ring moves as commanded).
+  // W·dq > 0: the environment pushes the ring along its motion, energy enters the network here.
+  port_.Book(wrench_F_, twist_cmd_ * dt);
+}
+
+double FollowerUnit::BudgetedStepShare(const Vector6d& step) noexcept {
+  const bool budgeted = machine_.following() && (setpoint_flags_ & kSetPointEnergyBudget) != 0 &&
+                        std::isfinite(setpoint_hand_energy_j_);
+  if (!budgeted) {
+    budget_running_ = false;
+    return 1.0;
+  }
+  if (!budget_running_ || budget_session_ != setpoint_session_) {
+    // The bound starts now: what the port gave before is not the hand's to pay for.
+    budget_running_ = true;
+    budget_session_ = setpoint_session_;
+    budget_offset_j_ = port_.energies().out_j - setpoint_hand_energy_j_;
+  }
+  record_.port_budget_j = budget_offset_j_ + setpoint_hand_energy_j_;
+  return port_.StepShare(step, wrench_F_, record_.port_budget_j);
 }
 
 void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept {
@@ -283,8 +312,8 @@ void FollowerUnit::PublishStatus(double now_s, const robot::RsrFollowerState& me
   s.limits = limits_;
   StoreVector<6>(wrench_F_, s.wrench_F);
   s.wrench_source = wrench_source_;
-  s.port_energy_in_j = port_energy_in_j_;
-  s.port_energy_out_j = port_energy_out_j_;
+  s.port_energy_in_j = port_.energies().in_j;
+  s.port_energy_out_j = port_.energies().out_j;
   link_.PublishStatus(s);
   ++counters_.status_published;
 }

@@ -18,6 +18,12 @@
 // Watchdog: no valid set-point for hold_after_s -> the robot holds, decelerating from its commanded velocity to
 // rest within the acceleration caps, and stopping at a joint limit rather than crossing it (the guard); counted in
 // watchdog_holds. None for leader_lost_after_s -> the drives are disabled (reason kLeaderLost).
+// Bilateral feedback: while following, the external wrench is estimated from the drive efforts and its power at the
+// commanded twist booked into the port's energies (sent with the status). When the set-points carry the hand's
+// energy (kSetPointEnergyBudget: the network form of the feedback's passivity), each step toward the set-point is
+// shortened so that what the robot gives the environment stays within what the hand put in (follower_passivity.h);
+// the step is taken from the commanded pose to the newest set-point, so motion held back is made up once the hand
+// has paid for it.
 // Recording: with a flight recorder watched (WatchRecorder), a recorder that failed, or a record the queue had no room
 // for, holds the robot for good as the watchdog does (the set-points are ignored): no motion goes unrecorded.
 
@@ -31,10 +37,12 @@
 #include "robot/actuation/actuator.h"
 #include "robot/feasible_motion.h"
 #include "robot/follower.h"
+#include "robot/sim/muscle_traction.h"
 #include "src/core/rt/clock.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/spsc_queue.h"
 #include "src/teleop/follower_config.h"
+#include "src/teleop/follower_passivity.h"
 #include "src/teleop/follower_state_machine.h"
 #include "src/teleop/link.h"
 #include "src/teleop/setpoint_validator.h"
@@ -68,6 +76,15 @@ struct FollowerTickRecord {
   std::array<double, 6> wrench_F{};
   double port_energy_in_j = 0;
   double port_energy_out_j = 0;
+  // The network form's follower half (follower_passivity.h): whether the newest set-point bounds the port (flag
+  // kSetPointEnergyBudget while following), and the bound on port_energy_out_j it gives (the hand's input since
+  // the bound started, divided by the gain, on the port's own scale).
+  bool port_budgeted = false;
+  double port_budget_j = 0;
+  // The true external wrench where the back end is a simulation that says what it applies (SetTrueLoad): the
+  // muscles' model at the measured pose and the commanded twist; what summary.json judges the shown load against.
+  bool true_load_known = false;
+  std::array<double, 6> true_wrench_F{};
   double meas_min_margin = 0;  // the measured pose's tightest joint-limit margin (m or rad; < 0 violated)
   // Verdicts.
   OperatingState state = OperatingState::kDisabled;
@@ -119,6 +136,13 @@ class FollowerUnit final : public rt::PeriodicTask {
   // The recorder's failure flag (set by the recorder on a write error, by this unit when its queue is full): once
   // set, the unit holds. Call before the loop starts; the flag must outlive the ticks. Null: no recorder watched.
   void WatchRecorder(std::atomic<bool>* failed) noexcept { recorder_failed_ = failed; }
+  // The simulation's own load model (a copy of what the Bullet follower applies; nullptr: no muscles, no load), so
+  // that the records carry the true external wrench beside the estimate. Call before the loop starts; it must
+  // outlive the ticks. Not called: the true load is not known (hardware).
+  void SetTrueLoad(const sim::MuscleTraction* traction) noexcept {
+    true_load_ = traction;
+    true_load_known_ = true;
+  }
 
   OperatingState state() const noexcept { return machine_.state(); }
   FaultReason reason() const noexcept { return machine_.reason(); }
@@ -129,8 +153,12 @@ class FollowerUnit final : public rt::PeriodicTask {
  private:
   Eigen::Isometry3d WantedPose(double now_s) noexcept;
   void PublishStatus(double now_s, const robot::RsrFollowerState& measured) noexcept;
-  // The external wrench while following (else none) and the port's energy over dt at the commanded twist.
+  // The external wrench while following (else none), computed when the back end's measurement changes, and the
+  // port's energy over dt at the commanded twist, every tick.
   void ObserveWrench(const robot::RsrFollowerState& measured, double dt) noexcept;
+  // The share of `step` the network form's bound lets the robot take (1 unless the set-points carry the hand's
+  // energy while following).
+  double BudgetedStepShare(const Vector6d& step) noexcept;
 
   const robot::RsrModel& model_;
   FollowerConfig config_;
@@ -168,11 +196,19 @@ class FollowerUnit final : public rt::PeriodicTask {
   bool first_tick_ = true;
   double next_status_s_ = 0;
   std::uint64_t status_sequence_ = 0;
-  // The external wrench (zero while not following) and the port's energies.
+  // The external wrench (zero while not following) and the port's energies since the start.
   Vector6d wrench_F_ = Vector6d::Zero();
-  WrenchSource wrench_source_ = WrenchSource::kNone;
-  double port_energy_in_j_ = 0;
-  double port_energy_out_j_ = 0;
+  WrenchSource wrench_source_ = WrenchSource::kNone;  // kNone: no estimate held (the next one is computed)
+  double wrench_meas_time_s_ = 0;  // the measurement the estimate was computed from (RsrFollowerState::time_s)
+  const sim::MuscleTraction* true_load_ = nullptr;
+  bool true_load_known_ = false;
+  FollowerPassivity port_;
+  // The network form's bound: the newest set-point's hand energy, and while the bound runs the offset that puts the
+  // hand's input since it started on the port's out_j scale (restarted when following or the leader session starts).
+  double setpoint_hand_energy_j_ = 0;
+  bool budget_running_ = false;
+  std::uint64_t budget_session_ = 0;
+  double budget_offset_j_ = 0;
 };
 
 }  // namespace robossis::teleop

@@ -27,6 +27,7 @@ void LeaderFeedbackConfig::Validate() const {
     throw std::invalid_argument("feedback: the force and torque caps must be finite and positive");
   }
   passivity.Validate();
+  let_go.Validate();
 }
 
 void LeaderConfig::Validate() const {
@@ -81,6 +82,23 @@ LeaderConfig LeaderConfig::FromConfig(const ConfigNode& root) {
   c.feedback.passivity.max_damping_n_s_per_m = feedback.NumberInRange("max_damping_n_s_per_m", 0.0, 1000.0);
   c.feedback.passivity.max_damping_nm_s_per_rad = feedback.NumberInRange("max_damping_nm_s_per_rad", 0.0, 10.0);
   c.feedback.passivity.release_s = feedback.NumberInRange("release_s", 0.0, 10.0);
+  c.feedback.passivity.active_tolerance_n = feedback.PositiveNumber("active_tolerance_n");
+  c.feedback.passivity.active_tolerance_nm = feedback.PositiveNumber("active_tolerance_nm");
+  const ConfigNode taper = feedback.Child("taper");
+  c.feedback.passivity.reserve_j = taper.NumberInRange("reserve_j", 0.0, 10.0);
+  c.feedback.passivity.rise_s = taper.NumberInRange("rise_s", 0.0, 10.0);
+  c.feedback.passivity.rest_damping_n_s_per_m = taper.NumberInRange("rest_damping_n_s_per_m", 0.0, 1000.0);
+  c.feedback.passivity.rest_hold_s = taper.NumberInRange("rest_hold_s", 0.0, 10.0);
+  c.feedback.passivity.still_m_s = MmToM(taper.PositiveNumber("still_mm_s"));
+  c.feedback.passivity.still_rad_s = DegToRad(taper.PositiveNumber("still_deg_s"));
+  c.feedback.detect_let_go = feedback.Bool("detect_let_go");
+  const ConfigNode let_go = feedback.Child("let_go");
+  c.feedback.let_go.device_mass_kg = let_go.PositiveNumber("device_mass_kg");
+  c.feedback.let_go.mass_ratio = let_go.PositiveNumber("mass_ratio");
+  c.feedback.let_go.min_force_n = let_go.PositiveNumber("min_force_n");
+  c.feedback.let_go.confirm_s = let_go.PositiveNumber("confirm_s");
+  c.feedback.let_go.rest_damping_n_s_per_m = let_go.PositiveNumber("rest_damping_n_s_per_m");
+  c.feedback.let_go.max_damper_share = let_go.PositiveNumber("max_damper_share");
   root.RejectUnreadKeys();  // a typo or a key this version does not read is an error
   try {
     c.Validate();

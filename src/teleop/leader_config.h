@@ -10,6 +10,7 @@
 #include "haptics/device/haptic_device.h"
 #include "robot/feasible_motion.h"
 #include "src/teleop/feedback_passivity.h"
+#include "src/teleop/let_go_detector.h"
 
 namespace robossis {
 class ConfigNode;
@@ -34,6 +35,10 @@ struct LeaderFeedbackConfig {
   double max_force_n = 15.0;
   double max_torque_nm = 0.3;
   FeedbackPassivityConfig passivity;
+  // The let-go detector (let_go_detector.h; `robossis teleop --let-go-detector`): once it believes the operator let
+  // go, the load is no longer shown and the device is damped to rest, until the presence or the clutch is taken anew.
+  bool detect_let_go = false;
+  LetGoConfig let_go;
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 

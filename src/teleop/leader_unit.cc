@@ -69,6 +69,7 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
       X_goal_(X_FM_start),
       X_sent_(OnTheWire(X_FM_start)),
       passivity_(config.feedback.passivity),
+      let_go_(config.feedback.let_go),
       records_(config.record_queue_capacity) {
   config.Validate();
   follower_limits_.caps = transfer.caps;
@@ -192,6 +193,13 @@ void LeaderUnit::SendSetPoint(std::int64_t sample_ns) noexcept {
   if (state_ == LeaderState::kTracking) flags |= kSetPointPresence;
   if (state_ != LeaderState::kTracking || clutched_) flags |= kSetPointClutched;
   if (state_ == LeaderState::kDeviceFault) flags |= kSetPointDeviceFault;
+  // The network form's follower half: the hand's input, on the follower port's scale (a gain of zero shows nothing
+  // and asks nothing of the hand: no bound).
+  const LeaderFeedbackConfig& fb = config_.feedback;
+  if (fb.mode == FeedbackMode::kBilateral && fb.passivity.scheme == FeedbackPassivityScheme::kNetwork && fb.gain > 0) {
+    flags |= kSetPointEnergyBudget;
+    m.hand_energy_in_j = counters_.feedback_energy_in_j / fb.gain;
+  }
   m.flags = flags;
   last_flags_ = flags;
   link_.SendSetPoint(m);
@@ -299,16 +307,28 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   const bool shown = bilateral && tracking && follower_heard_ && status_fresh &&
                      follower_.state == OperatingState::kEnabled && follower_.wrench_source != WrenchSource::kNone;
   Vector6d feedback_shown = Vector6d::Zero();
-  const Vector6d feedback_wanted = FeedbackWrench(shown);
-  if (bilateral && tracking && s.ok()) {
+  // The let-go detector: the force written at the last tick moved the device from the velocity read then to this
+  // one; it judges only while the load was shown (the leader's own motion, not the walls, is the question), and
+  // forgets a let-go once the operator's presence or clutch is taken anew.
+  if (!tracking) {
+    let_go_.Reset();
+  } else if (config_.feedback.detect_let_go && feedback_shown_ && shown && s.ok()) {
+    let_go_.Update(f_written_, v_read_, s.v_O, 1.0 / config_.rate_hz, passivity_.damping());
+  }
+  Vector6d feedback_wanted = FeedbackWrench(shown);
+  if (shown && let_go_.let_go()) {
+    feedback_wanted << -config_.feedback.let_go.rest_damping_n_s_per_m * s.v_O, Eigen::Vector3d::Zero();
+  }
+  Vector6d twist;
+  twist << s.v_O, s.w_O;
+  const bool port_runs = bilateral && tracking && s.ok();
+  if (port_runs) {
     if (shown && !feedback_shown_) {
       passivity_.Reset();
       remote_in_base_j_ = follower_.port_energy_in_j;
     }
-    Vector6d wall, twist;
+    Vector6d wall;
     wall << command.f_O, command.tau_O;
-    twist << s.v_O, s.w_O;
-    const double before_in = passivity_.energies().in_j, before_out = passivity_.energies().out_j;
     const double remote_in = config_.feedback.gain * (follower_.port_energy_in_j - remote_in_base_j_);
     const CappedWrench c = passivity_.Apply(wall, feedback_wanted, twist, 1.0 / config_.rate_hz,
                                             config_.feedback.max_force_n, config_.feedback.max_torque_nm,
@@ -316,11 +336,8 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     command.f_O = c.displayed.head<3>();
     command.tau_O = c.displayed.tail<3>();
     feedback_shown = c.feedback;
-    counters_.feedback_energy_in_j += passivity_.energies().in_j - before_in;
-    counters_.feedback_energy_out_j += passivity_.energies().out_j - before_out;
-    counters_.max_feedback_energy_j = std::max(counters_.max_feedback_energy_j,
-                                               counters_.feedback_energy_out_j - counters_.feedback_energy_in_j);
     if (passivity_.active()) ++counters_.passivity_active_ticks;
+    if (passivity_.taper_active()) ++counters_.taper_active_ticks;
   }
   feedback_shown_ = shown;
   const haptics::DeviceWriteReport written = device_.Write(command);
@@ -330,7 +347,26 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
       written.zeroed ? Eigen::Vector3d::Zero() : CapNorm(command.tau_O, device_.limits().max_torque_nm);
   counters_.max_force_n = std::max(counters_.max_force_n, f_sent.norm());
   counters_.max_torque_nm = std::max(counters_.max_torque_nm, tau_sent.norm());
-  if (written.zeroed) feedback_shown.setZero();
+  // The feedback part of what the device actually displays: none when it zeroed its output, and scaled with the
+  // whole wrench where its own caps cut it further (HapticDevice keeps the direction).
+  if (written.zeroed) {
+    feedback_shown.setZero();
+  } else {
+    const double f_cmd = command.f_O.norm(), tau_cmd = command.tau_O.norm();
+    if (f_cmd > 0) feedback_shown.head<3>() *= f_sent.norm() / f_cmd;
+    if (tau_cmd > 0) feedback_shown.tail<3>() *= tau_sent.norm() / tau_cmd;
+  }
+  if (port_runs) {
+    // The port's books, from the force the hand was actually shown over this tick (a device that zeroed its output
+    // gave the hand nothing, whatever the controller was asked to show).
+    const FeedbackPortEnergies tick = PortEnergiesOver(feedback_shown.dot(twist), 1.0 / config_.rate_hz);
+    counters_.feedback_energy_in_j += tick.in_j;
+    counters_.feedback_energy_out_j += tick.out_j;
+    counters_.max_feedback_energy_j = std::max(counters_.max_feedback_energy_j,
+                                               counters_.feedback_energy_out_j - counters_.feedback_energy_in_j);
+  }
+  f_written_ = f_sent;
+  v_read_ = s.v_O;
   counters_.max_feedback_force_n = std::max(counters_.max_feedback_force_n, feedback_shown.head<3>().norm());
 
   // The feasible set-point, sent at the transfer rate.
@@ -407,10 +443,13 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     r.feedback_O[i] = feedback_shown[i];
   }
   r.feedback_shown = shown ? 1 : 0;
+  r.let_go = let_go_.let_go() ? 1 : 0;
+  r.follower_stamp_ns = follower_.stamp_ns;
   r.feedback_energy_in_j = counters_.feedback_energy_in_j;
   r.feedback_energy_out_j = counters_.feedback_energy_out_j;
   r.passivity_observed_j = passivity_.observed_j();
   r.passivity_active = passivity_.active() ? 1 : 0;
+  r.taper_active = passivity_.taper_active() ? 1 : 0;
   if (!records_.TryPush(r)) ++counters_.records_dropped;
   latest_.Publish(r);
   ++counters_.ticks;

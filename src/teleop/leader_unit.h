@@ -34,6 +34,10 @@
 // the caps, and passed through the passivity observer and controller of the feedback port (feedback_passivity.h).
 // It is zero unless the follower follows (enabled, not clutched, not holding: its status says where its wrench came
 // from) on a fresh status while this leader tracks.
+// With config.feedback.detect_let_go the let-go detector (let_go_detector.h) judges every tick the load is shown by
+// the force written at the last tick and the velocity it produced; once it believes the operator let go, the load is
+// replaced by a damper (rest_damping_n_s_per_m) that brings the device to rest, until the presence or the clutch is
+// taken anew (the leader stops tracking).
 //
 // Real time: Tick() allocates nothing, locks nothing, prints and throws nothing. Records go to the flight recorder
 // through an SpscQueue (a full queue drops and counts), the latest one to a Snapshot for watchers.
@@ -54,6 +58,7 @@
 #include "src/core/rt/spsc_queue.h"
 #include "src/teleop/feedback_passivity.h"
 #include "src/teleop/leader_config.h"
+#include "src/teleop/let_go_detector.h"
 #include "src/teleop/link.h"
 #include "src/teleop/setpoint_validator.h"
 
@@ -107,8 +112,11 @@ struct LeaderTickRecord {
   double feedback_energy_in_j = 0;
   double feedback_energy_out_j = 0;
   double passivity_observed_j = 0;
-  std::uint8_t passivity_active = 0;   // the controller changed the feedback this tick
+  std::uint8_t passivity_active = 0;   // the controller changed the feedback (beyond its tolerance) this tick
+  std::uint8_t taper_active = 0;       // its taper alone did
   std::uint8_t feedback_shown = 0;     // the follower's load was shown (bilateral, following, fresh, tracking)
+  std::uint8_t let_go = 0;             // the let-go detector believes the operator let go (the device is damped)
+  std::int64_t follower_stamp_ns = 0;  // the stamp of the follower status in use (its clock: the delay removed)
 };
 
 struct LeaderCounters {
@@ -123,6 +131,7 @@ struct LeaderCounters {
   double max_torque_nm = 0;
   double max_feedback_force_n = 0;        // largest |f| of the feedback part displayed
   std::uint64_t passivity_active_ticks = 0;  // ticks at which the passivity controller changed the feedback
+  std::uint64_t taper_active_ticks = 0;      // ticks at which its taper alone did
   double feedback_energy_in_j = 0;        // the feedback port's energies over the whole run (the hand gave; took)
   double feedback_energy_out_j = 0;
   double max_feedback_energy_j = 0;       // the largest (out − in) at any tick (<= 0: passive at every sample)
@@ -208,6 +217,9 @@ class LeaderUnit final : public rt::PeriodicTask {
   std::atomic<std::uint64_t> statuses_received_{0};
   FeedbackPassivity passivity_;
   bool feedback_shown_ = false;      // the feedback was shown at the last tick (its books run)
+  LetGoDetector let_go_;
+  Eigen::Vector3d f_written_ = Eigen::Vector3d::Zero();  // the force written at the last tick (after the caps)
+  Eigen::Vector3d v_read_ = Eigen::Vector3d::Zero();     // the velocity read at the last tick
   double remote_in_base_j_ = 0;      // the follower's input energy when the books started
   LeaderCounters counters_;
   LeaderTickRecord record_;

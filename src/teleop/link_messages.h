@@ -49,6 +49,9 @@ const char* ToString(FaultReason reason);
 inline constexpr std::uint8_t kSetPointClutched = 1u << 0;  // clutch open: hold, then re-anchor
 inline constexpr std::uint8_t kSetPointPresence = 1u << 1;  // operator presence (the sigma.7's button)
 inline constexpr std::uint8_t kSetPointDeviceFault = 1u << 2;  // the leader's device failed: hold (FaultReason::kDeviceFailure)
+// The network form of the feedback port's passivity runs (leader.yaml feedback.passivity network, bilateral): the
+// follower bounds what it gives the environment by the hand's energy the set-point carries (follower_passivity.h).
+inline constexpr std::uint8_t kSetPointEnergyBudget = 1u << 3;
 
 // Leader → follower, every leader tick (CRTK `servo_cp` with a sequence number and a twist).
 struct SetPointMessage {
@@ -58,7 +61,11 @@ struct SetPointMessage {
   std::array<double, 3> p_FM{};     // RSR moving-ring position in F (m)
   std::array<double, 4> q_FM{1, 0, 0, 0};  // orientation, unit quaternion (w, x, y, z)
   std::array<double, 6> twist_F{};  // [v (m/s); omega (rad/s)] in F
-  std::uint8_t flags = 0;           // kSetPointClutched | kSetPointPresence
+  std::uint8_t flags = 0;           // kSetPointClutched | kSetPointPresence | ...
+  // The energy the hand has put into the leader's feedback port since this leader session started (J), divided by
+  // the feedback gain: what the follower's port may give the environment (the network form of Artigas et al. 2011
+  // sends the energies with every packet). Read only with kSetPointEnergyBudget.
+  double hand_energy_in_j = 0;
 };
 
 // Who sent a state command: carried on the wire (one byte) for the follower's log. It proves nothing: over DDS the

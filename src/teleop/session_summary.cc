@@ -55,6 +55,26 @@ SessionSummary::SessionSummary(const SummaryOptions& options) : options_(options
       "meas_roll_deg,meas_pitch_deg,meas_yaw_deg,state,min_limit_margin_si,holding\n";
 }
 
+double SessionSummary::ShownAgainstTrueForceRms() const {
+  // Each shown tick against the follower's true force at the time of the status it showed (the link's delay
+  // removed: the status's stamp is the follower's clock), mapped as the leader maps the estimate.
+  constexpr double kMatchS = 1.5e-3;  // [assumed] the true force is kept once a millisecond, the status rate
+  const Eigen::Matrix3d M =
+      options_.feedback_gain * options_.feedback_translation_scale * options_.feedback_R_FO.transpose();
+  double sum = 0;
+  std::size_t n = 0;
+  for (const auto& [stamp_s, shown] : shown_at_stamp_) {
+    auto it = std::upper_bound(true_force_.begin(), true_force_.end(), stamp_s + 1e-9,
+                               [](double t, const auto& sample) { return t < sample.first; });
+    if (it == true_force_.begin()) continue;
+    --it;
+    if (stamp_s - it->first > kMatchS) continue;
+    sum += (shown - M * it->second).squaredNorm();
+    ++n;
+  }
+  return n ? std::sqrt(sum / static_cast<double>(n)) : std::numeric_limits<double>::quiet_NaN();
+}
+
 void SessionSummary::AddLeader(const LeaderTickRecord& r) {
   if (leader_last_ns_ >= 0) ++leader_periods_us_[(r.t_ns - leader_last_ns_) / 1000];
   leader_last_ns_ = r.t_ns;
@@ -71,9 +91,15 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
     double e2 = 0;
     for (int i = 0; i < 3; ++i) e2 += (r.feedback_O[i] - r.feedback_wanted_O[i]) * (r.feedback_O[i] - r.feedback_wanted_O[i]);
     feedback_error_sq_sum_ += e2;
+    if (options_.feedback_map_known && shown_at_stamp_.size() < kMaxDelaySamples) {
+      shown_at_stamp_.emplace_back(1e-9 * static_cast<double>(r.follower_stamp_ns),
+                                   Eigen::Vector3d(r.feedback_O[0], r.feedback_O[1], r.feedback_O[2]));
+    }
     if (r.passivity_active) ++passivity_active_ticks_;
+    if (r.taper_active) ++taper_active_ticks_;
     min_passivity_observed_j_ = std::min(min_passivity_observed_j_, r.passivity_observed_j);
   }
+  if (r.let_go && let_go_detected_s_ < 0) let_go_detected_s_ = 1e-9 * static_cast<double>(r.t_ns);
   if (r.sent_this_tick && r.stopped_at_boundary) ++stopped_at_boundary_;
   if (r.sent_this_tick && t_sent_.size() < kMaxDelaySamples) {
     t_sent_.push_back(1e-9 * static_cast<double>(r.t_ns));
@@ -106,11 +132,32 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
 }
 
 void SessionSummary::AddFollower(const FollowerTickRecord& r) {
-  // The drift: the newest set-point the follower took (the leader's scaled hand, the link's delay removed) against
-  // its measured pose, as it stands at the end.
-  double drift2 = 0;
-  for (int i = 0; i < 3; ++i) drift2 += (r.setpoint_p_FM[i] - r.meas_p_FM[i]) * (r.setpoint_p_FM[i] - r.meas_p_FM[i]);
-  position_drift_m_ = std::sqrt(drift2);
+  verdict_.AddFollower(r);
+  // The drift (kDriftPathS): the path of the set-points taken while enabled (started over whenever the follower
+  // stops following), against the measured position.
+  if (r.state != OperatingState::kEnabled) {
+    setpoint_path_.clear();
+  } else if (r.setpoint_sequence != path_sequence_ || setpoint_path_.empty()) {
+    path_sequence_ = r.setpoint_sequence;
+    setpoint_path_.emplace_back(r.time_s, Eigen::Vector3d(r.setpoint_p_FM[0], r.setpoint_p_FM[1], r.setpoint_p_FM[2]));
+    while (setpoint_path_.front().first < r.time_s - kDriftPathS) setpoint_path_.pop_front();
+  }
+  last_meas_p_ = Eigen::Vector3d(r.meas_p_FM[0], r.meas_p_FM[1], r.meas_p_FM[2]);
+  // The largest once the path spans its whole window (not while the follower first catches up after enabling).
+  if (!setpoint_path_.empty() && r.time_s - setpoint_path_.front().first >= kDriftPathS - kDriftEveryS &&
+      r.time_s >= next_drift_s_) {
+    max_position_drift_m_ = std::max(max_position_drift_m_, DriftFrom(last_meas_p_));
+    next_drift_s_ = r.time_s + kDriftEveryS;
+  }
+  // The true force once a millisecond (the status rate), for the shown load against it.
+  if (r.true_load_known && true_force_.size() < kMaxDelaySamples &&
+      (true_force_.empty() || r.time_s >= true_force_.back().first + 1e-3 - 1e-9)) {
+    true_force_.emplace_back(r.time_s, Eigen::Vector3d(r.true_wrench_F[0], r.true_wrench_F[1], r.true_wrench_F[2]));
+  }
+  // The network form's follower half: what the robot gave the environment beyond the hand's input as received.
+  if (r.port_budgeted) {
+    follower_port_excess_max_j_ = std::max(follower_port_excess_max_j_, r.port_energy_out_j - r.port_budget_j);
+  }
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
@@ -159,6 +206,19 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   ++follower_ticks_;
 }
 
+double SessionSummary::DriftFrom(const Eigen::Vector3d& p) const {
+  if (setpoint_path_.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double d = (p - setpoint_path_.front().second).norm();
+  for (std::size_t i = 1; i < setpoint_path_.size(); ++i) {
+    const Eigen::Vector3d& a = setpoint_path_[i - 1].second;
+    const Eigen::Vector3d ab = setpoint_path_[i].second - a;
+    const double l2 = ab.squaredNorm();
+    const double s = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    d = std::min(d, (p - a - s * ab).norm());
+  }
+  return d;
+}
+
 // The hand-to-set-point delay of the motion transfer: the transfer's set-point against the eq. 10–11
 // displacement (the hand's motion after the dynamic scaling, before any filter), by the one estimator. Both come
 // from the leader's records alone, so a replayed log gives the same figure:
@@ -181,6 +241,7 @@ DelayEstimate SessionSummary::HandToSetPointDelay() const {
 
 nlohmann::ordered_json SessionSummary::Summary() const {
   nlohmann::ordered_json j;
+  WriteRunVerdict(Verdict(), j);
   j["leader_ticks"] = leader_ticks_;
   j["follower_ticks"] = follower_ticks_;
   j["leader_overruns"] = end_.leader_overruns;
@@ -202,19 +263,32 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["hand_to_setpoint_delay_correlation"] = delay.correlation;  // of the velocities at that lag (the quality)
   j["watchdog_holds"] = end_.watchdog_holds;
   // Bilateral feedback: the energy the feedback port gave the hand minus what it took (<= 0: passive), its largest
-  // value at any tick, the largest load force shown, the shown force against the follower's load as received
-  // (gain and map applied: the link's delay removed, the caps and the passivity controller left in), the follower's
-  // distance from its newest set-point at the end, and the share of the shown ticks the controller acted in.
+  // value at any tick, the largest load force shown, the shown force against the follower's true load where the
+  // simulation says it (gain and map applied, at the time of the status shown: the link's delay removed; the
+  // estimate's error, the caps and the passivity controller left in; null where not known) and against its estimate
+  // as received, the follower's drift (kDriftPathS: its distance from the path of its set-points, at the end and the
+  // largest over the run; null when it never followed), and the shares of the shown ticks in which the passivity
+  // controller (and its taper alone) changed the shown wrench beyond its tolerance (active_tolerance_n, _nm).
   j["feedback_energy_j"] = feedback_energy_j_;
   j["feedback_energy_max_j"] = max_feedback_energy_j_;
   j["feedback_energy_in_j"] = feedback_in_j_;
   j["max_feedback_force_n"] = max_feedback_force_n_;
-  j["feedback_force_error_n_rms"] =
+  const double vs_truth = ShownAgainstTrueForceRms();
+  j["feedback_force_error_n_rms"] = std::isfinite(vs_truth) ? nlohmann::ordered_json(vs_truth) : nlohmann::ordered_json();
+  j["feedback_force_error_vs_estimate_n_rms"] =
       feedback_ticks_ ? std::sqrt(feedback_error_sq_sum_ / static_cast<double>(feedback_ticks_)) : 0.0;
-  j["position_drift_mm"] = MToMm(position_drift_m_);
+  const double drift = DriftFrom(last_meas_p_);
+  j["position_drift_mm"] = std::isfinite(drift) ? nlohmann::ordered_json(MToMm(drift)) : nlohmann::ordered_json();
+  j["position_drift_max_mm"] = MToMm(max_position_drift_m_);
   j["tdpa_active_fraction"] =
       feedback_ticks_ ? static_cast<double>(passivity_active_ticks_) / static_cast<double>(feedback_ticks_) : 0.0;
+  j["taper_active_fraction"] =
+      feedback_ticks_ ? static_cast<double>(taper_active_ticks_) / static_cast<double>(feedback_ticks_) : 0.0;
   j["passivity_observer_min_j"] = min_passivity_observed_j_;
+  j["let_go_detected_s"] = let_go_detected_s_;  // when the let-go detector first believed a let-go (-1: never)
+  // The follower's port under the network form's bound: its output beyond the hand's input (divided by the gain) as
+  // received, largest at any tick (<= 0 but for the wrench's one-tick lag; 0 when no set-point carried the bound).
+  j["follower_port_excess_max_j"] = follower_port_excess_max_j_;
   j["follower_transitions"] = follower_transitions_;
   j["leader_transitions"] = leader_transitions_;
   j["complete"] = has_end_;  // false: the log ends without its end record (the run did not finish)

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <map>
 #include <string>
@@ -19,6 +20,7 @@
 #include "src/core/rt/loop_stats.h"
 #include "src/teleop/delay_estimate.h"
 #include "src/teleop/flight_recorder.h"
+#include "src/teleop/run_verdict.h"
 
 namespace robossis::teleop {
 
@@ -32,6 +34,12 @@ struct SummaryOptions {
   // the records' eq. 11 scales still mark where the hand was faster than the cap.
   double max_linear_speed_m_s = std::numeric_limits<double>::infinity();
   double max_angular_speed_rad_s = std::numeric_limits<double>::infinity();
+  // The leader's map of the follower's force into the device frame (f_O = gain·scale·R_FOᵀ·f_F), for the shown load
+  // against the follower's true one (FollowerTickRecord::true_wrench_F). Not known: not judged.
+  bool feedback_map_known = false;
+  double feedback_gain = 0;
+  double feedback_translation_scale = 1;
+  Eigen::Matrix3d feedback_R_FO = Eigen::Matrix3d::Identity();
 };
 
 // [assumed] The hand-to-set-point delay is estimated over the first this many set-points sent (2^18: 4.4 min at the
@@ -39,6 +47,15 @@ struct SummaryOptions {
 // transfer's filters', the same all session long, and minutes of motion judge it as well as hours; kept whole, an
 // 8-hour run's series would take ~3 GB.
 inline constexpr std::size_t kMaxDelaySamples = std::size_t{1} << 18;
+
+// The position drift: the follower's distance from the path of the set-points it received over the last
+// kDriftPathS (the leader's scaled pose as sent: the link's delay is already behind them). A follower that only lags
+// its set-points lies on that path, however far behind; one that accumulated an offset (the network form's follower
+// bound holding it back, a lost set-point never made up) lies off it by that offset. [assumed] 0.5 s: ten times the
+// follower's tracking lag at the speed cap, so the lag never leaves the window; the offset is sampled every
+// kDriftEveryS (10 ms), once the path spans the whole window, for its largest value over the run.
+inline constexpr double kDriftPathS = 0.5;
+inline constexpr double kDriftEveryS = 0.01;
 
 class SessionSummary {
  public:
@@ -48,8 +65,10 @@ class SessionSummary {
   void AddFollower(const FollowerTickRecord& r);
   void SetEnd(const SessionEndRecord& end) { end_ = end; has_end_ = true; }
 
-  // The headline keys first, then the details.
+  // The headline keys first (the run's verdict, run_verdict.h), then the details.
   nlohmann::ordered_json Summary() const;
+  // Whether the follower followed to the end, and if not, when it stopped and why (not judged without its records).
+  RunVerdict Verdict() const { return verdict_.Verdict(has_end_); }
   // The CSV text not yet moved out (all of it, the header first, if MoveCsvTo was never called).
   const std::string& leader_csv() const { return leader_csv_; }
   const std::string& follower_csv() const { return follower_csv_; }
@@ -60,6 +79,8 @@ class SessionSummary {
 
  private:
   DelayEstimate HandToSetPointDelay() const;
+  // The load shown against the follower's true load, N rms (NaN: not known, e.g. hardware or a leader-only log).
+  double ShownAgainstTrueForceRms() const;
 
   SummaryOptions options_;
   // Leader.
@@ -84,9 +105,15 @@ class SessionSummary {
   double feedback_in_j_ = 0;             // the hand gave, over the run
   double max_feedback_force_n_ = 0;
   double feedback_error_sq_sum_ = 0;     // |f shown − f wanted|², over the ticks it was shown
+  // The shown load against the follower's true one: the ticks shown (the status stamp in use, the force shown) and
+  // the follower's true force (its time, the force) once a millisecond, the first kMaxDelaySamples of each.
+  std::vector<std::pair<double, Eigen::Vector3d>> shown_at_stamp_;
+  std::vector<std::pair<double, Eigen::Vector3d>> true_force_;
   std::uint64_t feedback_ticks_ = 0;     // ticks the follower's load was shown
-  std::uint64_t passivity_active_ticks_ = 0;
+  std::uint64_t passivity_active_ticks_ = 0;  // the controller changed the shown wrench beyond its tolerance
+  std::uint64_t taper_active_ticks_ = 0;      // its taper alone did
   double min_passivity_observed_j_ = 0;
+  double let_go_detected_s_ = -1;        // the first tick the let-go detector fired (-1: never)
   // Follower.
   std::uint64_t follower_ticks_ = 0;
   double follower_last_s_ = -1;
@@ -102,7 +129,16 @@ class SessionSummary {
   nlohmann::ordered_json follower_transitions_ = nlohmann::ordered_json::array();
   std::string follower_csv_;
   int follower_decimation_ = 1;
-  double position_drift_m_ = 0;  // |newest set-point − measured| at the last follower tick
+  // The drift (kDriftPathS): the set-points received (time, position) over the last kDriftPathS while enabled, the
+  // last measured position, the largest drift sampled.
+  double DriftFrom(const Eigen::Vector3d& p) const;
+  std::deque<std::pair<double, Eigen::Vector3d>> setpoint_path_;
+  std::uint64_t path_sequence_ = 0;
+  Eigen::Vector3d last_meas_p_ = Eigen::Vector3d::Zero();
+  double next_drift_s_ = 0;
+  double max_position_drift_m_ = 0;
+  double follower_port_excess_max_j_ = 0;  // the network form's follower bound: out − budget, largest (J)
+  RunVerdictCheck verdict_;
   SessionEndRecord end_;
   bool has_end_ = false;
 };

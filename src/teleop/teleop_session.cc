@@ -30,6 +30,23 @@ std::vector<std::string> KnownFollowers() { return {"sim", "recorder", "hal"}; }
 
 bool EnablesAtStartByDefault(const std::string& kind) { return kind != "hal"; }
 
+namespace {
+
+// The muscles of the reduction scenario (femur axis along z through the fracture site), pulling with load_n and
+// twisting with load_nm at the home pose (the fragments aligned there); none without a load.
+std::optional<sim::MuscleTraction> SimTraction(const TeleopSetup& setup, double load_n, double load_nm) {
+  std::optional<sim::MuscleTraction> traction;
+  if (load_n > 0 || load_nm > 0) {
+    const Eigen::Isometry3d home = setup.rsr->geometry().X_FM_home;
+    traction.emplace(setup.sim.traction, Eigen::Vector3d::UnitZ(),
+                     Eigen::Vector3d(0, 0, setup.sim.bone.fracture_site_z_m), home);
+    traction->Calibrate(home, home.linear(), load_n, load_nm);
+  }
+  return traction;
+}
+
+}  // namespace
+
 std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, const TeleopSetup& setup,
                                                      double max_duration_s, double load_n, double load_nm) {
   const robot::RsrModel& rsr = *setup.rsr;
@@ -37,15 +54,8 @@ std::unique_ptr<robot::Follower> MakeFollowerBackEnd(const std::string& kind, co
   if (kind == "sim") {
     sim::SimOptions options;
     options.with_bone = false;  // at the home pose the fragments touch: a motion would push one into the other
-    options.with_traction = load_n > 0 || load_nm > 0;
-    // The muscles of the reduction scenario (femur axis along z through the fracture site), pulling with load_n and
-    // twisting with load_nm at the home pose (the fragments aligned there).
-    std::optional<sim::MuscleTraction> traction;
-    if (options.with_traction) {
-      traction.emplace(setup.sim.traction, Eigen::Vector3d::UnitZ(),
-                       Eigen::Vector3d(0, 0, setup.sim.bone.fracture_site_z_m), home);
-      traction->Calibrate(home, home.linear(), load_n, load_nm);
-    }
+    const std::optional<sim::MuscleTraction> traction = SimTraction(setup, load_n, load_nm);
+    options.with_traction = traction.has_value();
     // The simulated robot steps on a loop of its own (sim::SimulatedPlant), not inside the follower's tick.
     return std::make_unique<sim::SimulatedPlant>(std::make_unique<sim::RsrSimulation>(
         rsr, setup.sim, nullptr, traction ? &*traction : nullptr, home, options));
@@ -94,6 +104,15 @@ SummaryOptions OptionsFromMeta(const nlohmann::json& meta) {
   if (meta.contains("max_angular_speed_rad_s")) {
     o.max_angular_speed_rad_s = meta.at("max_angular_speed_rad_s").get<double>();
   }
+  // The leader's feedback map, for the shown load against the true one; absent from older logs (then not judged).
+  if (meta.contains("feedback_gain")) {
+    o.feedback_map_known = true;
+    o.feedback_gain = meta.at("feedback_gain").get<double>();
+    o.feedback_translation_scale = meta.at("feedback_translation_scale").get<double>();
+    const std::vector<double> R = meta.at("feedback_R_FO").get<std::vector<double>>();
+    if (R.size() != 9) throw std::runtime_error("feedback_R_FO: expected 9 numbers (row-major)");
+    o.feedback_R_FO = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(R.data());
+  }
   return o;
 }
 
@@ -129,6 +148,7 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
   if (!request.feedback_passivity.empty()) {
     config.feedback.passivity.scheme = ParseFeedbackPassivityScheme("--feedback-passivity", request.feedback_passivity);
   }
+  if (request.let_go_detector) config.feedback.detect_let_go = true;
   try {
     config.Validate();
   } catch (const std::invalid_argument& e) {
@@ -156,6 +176,7 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
 struct FollowerSide {
   std::unique_ptr<robot::Follower> back_end;
   std::unique_ptr<FollowerUnit> unit;
+  std::optional<sim::MuscleTraction> true_load;  // the Bullet follower's muscles, for the records' true wrench
 };
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
@@ -173,6 +194,10 @@ FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& s
     config.wrench.arm_masses = m;
   }
   side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, config, *side.back_end, link, clock);
+  if (request.follower == "sim") {
+    side.true_load = SimTraction(setup, request.sim_load_n, request.sim_load_nm);
+    side.unit->SetTrueLoad(side.true_load ? &*side.true_load : nullptr);
+  }
   return side;
 }
 
@@ -261,6 +286,13 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
                          {"clock", clock.real ? "real" : "simulated"}, {"units", unit_names[static_cast<int>(units)]},
                          {"max_linear_speed_m_s", setup.transfer.caps.max_linear_speed_m_s},
                          {"max_angular_speed_rad_s", setup.transfer.caps.max_angular_speed_rad_s}};
+  if (leader != nullptr) {
+    const transfer::HcToRsrFrame& frame = setup.transfer.mapping;
+    const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> R = frame.R_FO;
+    meta["feedback_gain"] = request.feedback_gain >= 0 ? request.feedback_gain : setup.leader.feedback.gain;
+    meta["feedback_translation_scale"] = frame.translation_scale;
+    meta["feedback_R_FO"] = std::vector<double>(R.data(), R.data() + 9);
+  }
   std::vector<StreamSpec> streams = {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()};
   SessionLogWriter log(log_file, meta, streams);
   SessionSummary summary(OptionsFromMeta(meta));

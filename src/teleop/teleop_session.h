@@ -72,6 +72,7 @@ struct TeleopRequest {
   std::string feedback;      // empty: leader.yaml's mode
   double feedback_gain = -1; // < 0: leader.yaml's gain
   std::string feedback_passivity;  // --feedback-passivity off|classic|network; empty: leader.yaml's
+  bool let_go_detector = false;    // --let-go-detector: on whatever leader.yaml says (feedback.detect_let_go)
   // The in-process link's one-way delay, both directions (--link-delay-ms; `teleop` on one process only).
   double link_delay_s = 0;
   // The Bullet follower's muscle traction (--sim-load-n, --sim-load-nm): the reduction scenario's muscles, calibrated

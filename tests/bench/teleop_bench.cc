@@ -25,6 +25,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -77,6 +78,21 @@ const TeleopSetup& Setup() {
 }
 
 // Hand sample → follower joint command on real clocks: 1 kHz leader, 10 kHz follower, `duration_s` per iteration.
+void AddCounts(rt::LoopCounts& sum, const rt::LoopCounts& c) {
+  sum.ticks += c.ticks;
+  sum.overruns += c.overruns;
+  sum.overruns_late_wake += c.overruns_late_wake;
+  sum.overruns_long_tick += c.overruns_long_tick;
+}
+
+// <loop>_overruns and their causes (rt::LoopStats): a late wake-up (scheduling) or a long tick (the tick's own work,
+// with any preemption inside it).
+void SetOverrunCounters(benchmark::State& state, const std::string& loop, const rt::LoopCounts& c) {
+  state.counters[loop + "_overruns"] = static_cast<double>(c.overruns);
+  state.counters[loop + "_overruns_late_wake"] = static_cast<double>(c.overruns_late_wake);
+  state.counters[loop + "_overruns_long_tick"] = static_cast<double>(c.overruns_long_tick);
+}
+
 void BM_HandToJointCommandLatency(benchmark::State& state) {
   const TeleopSetup& setup = Setup();
   const robot::RsrModel& rsr = *setup.rsr;
@@ -84,8 +100,8 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   const double duration_s = 5.0;
   const double follower_rate_hz = setup.transfer.rates.actuation_rate_hz;
   std::vector<double> latency_us, follower_part_us, wait_us;  // wait: sample → the follower tick's start
-  std::uint64_t leader_overruns = 0, follower_overruns = 0, used = 0, realtime_refused = 0;
-  std::uint64_t follower_ticks = 0, plant_overruns = 0;
+  std::uint64_t used = 0, realtime_refused = 0;
+  rt::LoopCounts leader_loop, follower_loop, plant_loop;  // summed over the iterations; overruns by cause
   // The follower loop's own tick (LoopStats::tick_duration, wall time from the tick's start to its end).
   double follower_tick_p50_us = 0, follower_tick_p99_us = 0, follower_tick_max_us = 0, plant_tick_p99_us = 0;
   for (auto _ : state) {
@@ -128,28 +144,27 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
       while (follower.TakeRecord(f)) records.push_back(f);
       return true;
     };
-    rt::LoopOptions leader_loop, follower_loop;
-    leader_loop.name = "leader";
-    leader_loop.period_ns = 1'000'000;
-    follower_loop.name = "follower";
-    follower_loop.period_ns = std::llround(1e9 / follower_rate_hz);
-    follower_loop.fifo_priority = 81;
-    std::vector<rt::ScheduledTask> tasks = {{&leader, leader_loop}, {&follower, follower_loop}};
+    rt::LoopOptions leader_options, follower_options;
+    leader_options.name = "leader";
+    leader_options.period_ns = 1'000'000;
+    follower_options.name = "follower";
+    follower_options.period_ns = std::llround(1e9 / follower_rate_hz);
+    follower_options.fifo_priority = 81;
+    std::vector<rt::ScheduledTask> tasks = {{&leader, leader_options}, {&follower, follower_options}};
     if (const robot::Follower::Plant plant = back_end->plant(); plant.task != nullptr) {
       tasks.push_back({plant.task, rt::PlantLoopOptions(plant.period_ns)});
     }
     const rt::RunResult run = rt::RunRealTime(clock, tasks, duration_s, drain);
     drain(0);
     realtime_refused += run.warnings.size();
-    leader_overruns += run.stats[0].overruns;
-    follower_overruns += run.stats[1].overruns;
-    follower_ticks += run.stats[1].ticks;
+    AddCounts(leader_loop, run.stats[0].counts());
+    AddCounts(follower_loop, run.stats[1].counts());
     follower_tick_p50_us = std::max(follower_tick_p50_us, run.stats[1].tick_duration.PercentileUs(0.50));
     follower_tick_p99_us = std::max(follower_tick_p99_us, run.stats[1].tick_duration.PercentileUs(0.99));
     follower_tick_max_us = std::max(follower_tick_max_us, run.stats[1].tick_duration.max_us());
     if (run.stats.size() > 2) {
       plant_tick_p99_us = std::max(plant_tick_p99_us, run.stats[2].tick_duration.PercentileUs(0.99));
-      plant_overruns += run.stats[2].overruns;
+      AddCounts(plant_loop, run.stats[2].counts());
     }
     for (const FollowerTickRecord& r : records) {
       if (!r.took_setpoint || r.setpoint_verdict != SetPointVerdict::kAccepted) continue;
@@ -171,17 +186,18 @@ void BM_HandToJointCommandLatency(benchmark::State& state) {
   state.counters["follower_tick_to_command_p99_us"] = Percentile(follower_part_us, 0.99);
   state.counters["sample_to_follower_tick_p50_us"] = Percentile(wait_us, 0.50);
   state.counters["sample_to_follower_tick_p01_us"] = Percentile(wait_us, 0.01);
-  state.counters["leader_overruns"] = static_cast<double>(leader_overruns);
   state.counters["realtime_warnings"] = static_cast<double>(realtime_refused);  // SCHED_FIFO or mlockall refused
-  state.counters["follower_overruns"] = static_cast<double>(follower_overruns);
-  state.counters["follower_overrun_rate"] =
-      follower_ticks ? static_cast<double>(follower_overruns) / static_cast<double>(follower_ticks) : 0.0;
+  SetOverrunCounters(state, "leader", leader_loop);
+  SetOverrunCounters(state, "follower", follower_loop);
+  state.counters["follower_overrun_rate"] = follower_loop.ticks ? static_cast<double>(follower_loop.overruns) /
+                                                                      static_cast<double>(follower_loop.ticks)
+                                                                : 0.0;
   state.counters["follower_tick_p50_us"] = follower_tick_p50_us;
   state.counters["follower_tick_p99_us"] = follower_tick_p99_us;
   state.counters["follower_tick_max_us"] = follower_tick_max_us;
   state.counters["follower_tick_p99_over_period"] = follower_tick_p99_us * 1e-6 * follower_rate_hz;
   state.counters["plant_tick_p99_us"] = plant_tick_p99_us;  // the simulated robot's own loop (arg 1 only)
-  state.counters["plant_overruns"] = static_cast<double>(plant_overruns);
+  SetOverrunCounters(state, "plant", plant_loop);
 }
 BENCHMARK(BM_HandToJointCommandLatency)->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -260,14 +276,16 @@ BENCHMARK(BM_TransferFilterDelay)
     ->Unit(benchmark::kMillisecond);
 
 // The bilateral feedback's added cost per tick (budget: 20 µs): the leader's passivity observer and controller on
-// the feedback port (arg 0: observing only; arg 1: the controller acting every tick, its damper capped and the
-// feedback cut, the longest path; arg 2: the same released over 0.25 s), the follower's side of the network form
+// the feedback port (arg 0: observing only; arg 1: the default, the energy-reserve taper and its damper ahead of the
+// controller acting every tick; arg 2: the tick-by-tick controller alone, its damper capped and the feedback cut;
+// arg 3: the same released over 0.25 s), the follower's side of the network form
 // and the let-go detector, and the follower's wrench estimate (the Jacobian of eq. 15, the statics, the
 // arms' weight by virtual work), which runs in its 10 kHz tick.
 void BM_FeedbackPassivityTick(benchmark::State& state) {
   teleop::FeedbackPassivityConfig config;
   config.scheme = state.range(0) == 0 ? teleop::FeedbackPassivityScheme::kOff : teleop::FeedbackPassivityScheme::kNetwork;
-  if (state.range(0) == 2) config.release_s = 0.25;
+  if (state.range(0) >= 2) config.reserve_j = 0;
+  if (state.range(0) == 3) config.release_s = 0.25;
   teleop::FeedbackPassivity port(config);
   Vector6d wall = Vector6d::Zero(), feedback, twist;
   feedback << 8, -3, 5, 0.05, 0.02, -0.04;
@@ -280,7 +298,7 @@ void BM_FeedbackPassivityTick(benchmark::State& state) {
     benchmark::DoNotOptimize(sink);
   }
 }
-BENCHMARK(BM_FeedbackPassivityTick)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FeedbackPassivityTick)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond);
 
 void BM_FeedbackFollowerPortAndLetGo(benchmark::State& state) {
   teleop::FollowerPassivity follower_port;
@@ -293,7 +311,7 @@ void BM_FeedbackFollowerPortAndLetGo(benchmark::State& state) {
     const double share = follower_port.StepShare(step, wrench, 1.0);
     follower_port.Book(wrench, share * step);
     sink += share;
-    benchmark::DoNotOptimize(let_go.Update(wrench.head<3>() * 0.01, step.head<3>(), -step.head<3>(), 1e-3));
+    benchmark::DoNotOptimize(let_go.Update(wrench.head<3>() * 0.01, step.head<3>(), -step.head<3>(), 1e-3, 0.0));
     benchmark::DoNotOptimize(sink);
   }
 }
@@ -311,5 +329,93 @@ void BM_FollowerWrenchEstimate(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(teleop::EstimateExternalWrench(model, X, effort, config));
 }
 BENCHMARK(BM_FollowerWrenchEstimate)->Unit(benchmark::kMicrosecond);
+
+// A back end that measures at the Bullet plant's 1 kHz while the follower ticks at 10 kHz (the pulse recorder's
+// state, held for 1 ms, with a constant load on the drives): what the follower's wrench estimate sees in
+// `robossis teleop --follower sim`.
+class MeasuredAtOneKilohertz final : public robot::Follower {
+ public:
+  MeasuredAtOneKilohertz(robot::Follower& inner, const robot::RsrJointVector& effort)
+      : inner_(inner), effort_(effort) {}
+  bool Enable() noexcept override { return inner_.Enable(); }
+  void Disable() noexcept override { inner_.Disable(); }
+  bool Home() noexcept override { return inner_.Home(); }
+  bool MeasuresJoints() const noexcept override { return inner_.MeasuresJoints(); }
+  bool ResetFault() noexcept override { return inner_.ResetFault(); }
+  void Command(const robot::RsrJointCommand& command) noexcept override { inner_.Command(command); }
+  void Service(double now_s) noexcept override {
+    inner_.Service(now_s);
+    if (measured_ && now_s < state_.time_s + 1e-3 - 1e-9) return;
+    state_ = inner_.State();
+    state_.time_s = now_s;
+    state_.effort = effort_;
+    measured_ = true;
+  }
+  robot::RsrFollowerState State() const noexcept override { return measured_ ? state_ : inner_.State(); }
+
+ private:
+  robot::Follower& inner_;
+  robot::RsrJointVector effort_;
+  robot::RsrFollowerState state_;
+  bool measured_ = false;
+};
+
+// One follower tick (FollowerUnit::Tick) while it follows a set-point stream moving at 5 mm/s, on a simulated clock
+// (10 kHz, a set-point every tenth tick), the wrench estimated from a back end measuring at 1 kHz, the ring's and the
+// arms' weight removed as `robossis teleop --follower sim` does.
+void BM_FollowerTick(benchmark::State& state) {
+  const TeleopSetup& setup = Setup();
+  const robot::RsrModel& rsr = *setup.rsr;
+  const Eigen::Isometry3d home = rsr.geometry().X_FM_home;
+  const auto ticks = static_cast<std::size_t>(state.max_iterations) + 100;
+  actuation::PulseRecorderFollower recorder(rsr, setup.actuation, home, ticks, ticks);
+  robot::RsrJointVector effort;
+  effort << 1, -2, 3, 170, 175, 168;
+  MeasuredAtOneKilohertz back_end(recorder, effort);
+  rt::SimulatedClock clock;
+  InProcessLink link(clock);
+  // The weight the session removes for the Bullet follower (the estimate's longest path).
+  FollowerConfig config = setup.follower;
+  config.wrench.carried_mass_kg = setup.sim.masses.moving_ring_kg;
+  config.wrench.gravity_F_mps2 = setup.sim.physics.gravity_F_mps2;
+  config.wrench.remove_arm_weight = true;
+  config.wrench.arm_masses = setup.sim.masses;
+  FollowerUnit follower(rsr, setup.actuation, config, back_end, link, clock);
+  StateCommandMessage enable;
+  enable.command = StateCommand::kEnable;
+  enable.sequence = 1;
+  link.operator_commands().Send(enable);
+  SetPointMessage sp;
+  sp.leader_session = 1;
+  sp.flags = kSetPointPresence;
+  sp.twist_F = {0.005, 0, 0, 0, 0, 0};
+  const auto send = [&](std::uint64_t k) {
+    if (k % 10 != 0) return;
+    Eigen::Isometry3d X = home;
+    X.translation().x() += 0.005 * clock.NowS();
+    PoseToArrays(X, sp.p_FM, sp.q_FM);
+    ++sp.sequence;
+    sp.stamp_ns = clock.now_ns();
+    link.SendSetPoint(sp);
+  };
+  FollowerTickRecord record;
+  std::uint64_t k = 0;
+  for (; k < 100; ++k) {  // enabled and following before the timing starts
+    send(k);
+    clock.AdvanceNs(100'000);
+    follower.Tick();
+    while (follower.TakeRecord(record)) {
+    }
+  }
+  for (auto _ : state) {
+    send(k++);
+    clock.AdvanceNs(100'000);
+    follower.Tick();
+    follower.TakeRecord(record);
+  }
+  state.counters["following"] = follower.state() == OperatingState::kEnabled ? 1 : 0;
+  state.counters["wrench_x_n"] = record.wrench_F[0];
+}
+BENCHMARK(BM_FollowerTick)->Iterations(100000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

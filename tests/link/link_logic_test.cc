@@ -240,6 +240,19 @@ TEST(WireConvert, TheWrenchAndThePortEnergiesRoundTrip) {
   EXPECT_EQ(back.wrench_source, teleop::WrenchSource::kNone);
 }
 
+// The hand's energy crosses the wire with every set-point, for the follower's half of the network form.
+TEST(WireConvert, TheSetPointCarriesTheHandsEnergyAndItsFlag) {
+  teleop::SetPointMessage m;
+  m.flags = teleop::kSetPointPresence | teleop::kSetPointEnergyBudget;
+  m.hand_energy_in_j = 2.75;
+  robossis_msgs_msg_dds__SetPoint_ w{};
+  ToWire(m, w);
+  teleop::SetPointMessage back;
+  FromWire(w, back);
+  EXPECT_EQ(back.hand_energy_in_j, 2.75);
+  EXPECT_EQ(back.flags, m.flags);
+}
+
 TEST(WireConvert, TimeSplitsIntoSecondsAndNanoseconds) {
   const auto t = ToTime(3 * 1000000000LL + 7);
   EXPECT_EQ(t.sec, 3);

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "robot/actuation/pulse_recorder_follower.h"
+#include "robot/sim/muscle_traction.h"
+#include "robot/sim/sim_config.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
 #include "src/teleop/in_process_link.h"
@@ -464,6 +466,13 @@ TEST_F(FollowerUnitTest, RecordsTheStampOfTheSetPointItUsedAndWhenItCommanded) {
 }
 
 TEST_F(FollowerUnitTest, TickAllocatesNothing) {
+  leader_flags_ = kSetPointPresence | kSetPointEnergyBudget;  // the network form's follower half runs too
+  // The true load the records carry, as for the Bullet follower with its muscles.
+  const sim::SimConfig sim = sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir());
+  sim::MuscleTraction traction(sim.traction, Eigen::Vector3d::UnitZ(),
+                               Eigen::Vector3d(0, 0, sim.bone.fracture_site_z_m), home_);
+  traction.Calibrate(home_, home_.linear(), 517, 74);
+  unit_.SetTrueLoad(&traction);
   Command(StateCommand::kEnable);
   Run(0.01);
   leader_offset_.z() = 0.069;  // near the upper strokes: the guard works too

@@ -100,6 +100,17 @@ TEST(TeleopCliTest, BilateralFeedbackBehindADelayAndItsBadInput) {
   EXPECT_GT(summary["max_feedback_force_n"].get<double>(), 0.9 * 0.02 * 517);
   EXPECT_LE(summary["feedback_energy_max_j"].get<double>(), 1e-9);
   std::filesystem::remove_all(out);
+  // Both halves of the network form and the let-go detector (the hand holds on: it never fires).
+  const auto network = Robossis("teleop --device sim --follower sim --duration-s 1 --clock simulated "
+                                "--max-speed-mm-s 100 --feedback bilateral --feedback-passivity network "
+                                "--let-go-detector --link-delay-ms 50 --sim-load-n 517 --no-plots --json --out " +
+                                    out.string(),
+                                false);
+  ASSERT_EQ(network.exit_code, 0) << network.output;
+  const auto n = nlohmann::json::parse(network.output);
+  EXPECT_LE(n["follower_port_excess_max_j"].get<double>(), 0.02);
+  EXPECT_EQ(n["let_go_detected_s"].get<double>(), -1.0);
+  std::filesystem::remove_all(out);
   for (const std::string bad : {"--feedback loud", "--feedback-passivity maybe", "--follower recorder --sim-load-n 5"}) {
     const auto r = Robossis("teleop --duration-s 1 " + bad + " --out " + out.string());
     EXPECT_EQ(r.exit_code, 1) << bad;
