@@ -19,6 +19,7 @@ constexpr const char* kJointNames[6] = {"theta1", "theta2", "theta3", "d1", "d2"
 DdsFollowerLink::DdsFollowerLink(const LinkOptions& options, const rt::Clock& clock)
     : options_(options),
       clock_(clock),
+      status_stamp_offset_ns_(SystemNowNs() - Ns(clock.NowS())),
       dds_(options),
       setpoint_reader_(dds_.CreateReader(Topic::kSetPoint)),
       command_reader_(dds_.CreateReader(Topic::kStateCommand)),
@@ -181,9 +182,9 @@ void DdsFollowerLink::SendLoop() {
     if (stop_.load(std::memory_order_acquire)) break;
     teleop::FollowerStatusMessage m;
     if (!status_.ReadNewer(m, version_sent)) continue;
-    // Stamped when written: the send thread writes each status as the loop publishes it, so the stamp trails the
-    // measurement by the thread's wake-up only.
-    const std::int64_t stamp = SystemNowNs();
+    // The status's own time on the system clock (not the time of this write, which trails it by the thread's
+    // wake-up): a header is the time of its data, and the leader's records join the follower's on it exactly.
+    const std::int64_t stamp = m.stamp_ns + status_stamp_offset_ns_;
     geometry_msgs_msg_dds__PoseStamped_ cp{};
     ToMeasuredCp(m, stamp, frame_id, cp);
     dds_write(cp_writer_, &cp);

@@ -42,6 +42,10 @@ class DdsFollowerLink final : public teleop::FollowerLink {
   bool TakeCommand(teleop::StateCommandMessage& message) noexcept override;
   void PublishStatus(const teleop::FollowerStatusMessage& message) noexcept override;
   std::uint64_t EStopsEngaged() const noexcept override { return estop_.engaged(); }
+  // The system clock (CLOCK_REALTIME) minus `clock`, read once when the link is made: every status goes out
+  // stamped with the system time of its own stamp. CLOCK_MONOTONIC and CLOCK_REALTIME are slewed alike, so the
+  // offset stays right unless the system clock is stepped during the run (then the headers keep the old offset).
+  std::int64_t StatusStampOffsetNs() const noexcept override { return status_stamp_offset_ns_; }
 
   FollowerLinkStatistics Statistics() const noexcept;
 
@@ -55,6 +59,7 @@ class DdsFollowerLink final : public teleop::FollowerLink {
 
   LinkOptions options_;
   const rt::Clock& clock_;
+  const std::int64_t status_stamp_offset_ns_;
   DdsParticipant dds_;
   dds_entity_t setpoint_reader_, command_reader_, estop_reader_;
   dds_entity_t cp_writer_, js_writer_, state_writer_;

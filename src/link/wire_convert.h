@@ -32,8 +32,9 @@ bool ParseOperatingStateName(const char* name, teleop::OperatingState& s) noexce
 std::int64_t SystemNowNs() noexcept;
 
 // Status → measured_cp / operating_state (strings point at static storage or `frame_id`). The headers carry
-// `header_stamp_ns`, the system clock (so that rviz, tf2 and message_filters read them as now); the follower's own
-// clock (m.stamp_ns, what its flight recorder and the link's freshness use) stays in operating_state's stamp_ns.
+// `header_stamp_ns`, the status's time on the system clock (so that rviz, tf2 and message_filters read them as the
+// time of the data); the follower's own clock (m.stamp_ns, what its flight recorder and the link's freshness use)
+// stays in operating_state's stamp_ns.
 void ToMeasuredCp(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,
                   geometry_msgs_msg_dds__PoseStamped_& w) noexcept;
 void ToOperatingState(const teleop::FollowerStatusMessage& m, std::int64_t header_stamp_ns, char* frame_id,

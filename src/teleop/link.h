@@ -40,6 +40,11 @@ class FollowerLink {
   virtual void PublishStatus(const FollowerStatusMessage& message) noexcept = 0;
   // How many E-stops were engaged so far (only ever grows): the follower E-stops whenever it has grown.
   virtual std::uint64_t EStopsEngaged() const noexcept = 0;
+  // What the link adds to a status's stamp (the follower's clock) on the way out, the same for the link's whole
+  // life: 0 in one process; over DDS the system clock's offset from the follower's clock, so that the headers
+  // carry the system time of the status. A status's stamp as received minus this is the follower's clock again:
+  // the session log keeps it, so that the leader's log and the follower's join on one time base.
+  virtual std::int64_t StatusStampOffsetNs() const noexcept { return 0; }
 };
 
 }  // namespace robossis::teleop

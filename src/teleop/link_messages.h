@@ -102,7 +102,8 @@ enum class WrenchSource : std::uint8_t {
 // Follower → leader and watchers, at >= 100 Hz (CRTK `measured_cp`, `measured_js`, `operating_state`).
 struct FollowerStatusMessage {
   std::uint64_t sequence = 0;
-  std::int64_t stamp_ns = 0;                // follower clock (over DDS: its system clock, measured_cp.header)
+  std::int64_t stamp_ns = 0;                // follower clock (over DDS: plus FollowerLink::StatusStampOffsetNs,
+                                            // the system clock's offset from it: measured_cp.header)
   std::array<double, 3> p_FM{};             // measured moving-ring pose
   std::array<double, 4> q_FM{1, 0, 0, 0};
   std::array<double, 6> joints{};           // measured actuated joints, eq. 13 order (rad, m)

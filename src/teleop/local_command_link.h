@@ -44,6 +44,7 @@ class LocalCommandLink final : public FollowerLink {
   }
   void PublishStatus(const FollowerStatusMessage& message) noexcept override { link_.PublishStatus(message); }
   std::uint64_t EStopsEngaged() const noexcept override { return estop_.engaged() + link_.EStopsEngaged(); }
+  std::int64_t StatusStampOffsetNs() const noexcept override { return link_.StatusStampOffsetNs(); }
 
  private:
   FollowerLink& link_;

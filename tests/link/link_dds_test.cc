@@ -29,6 +29,7 @@
 #include "src/link/dds_follower_link.h"
 #include "src/link/dds_leader_link.h"
 #include "src/link/keys.h"
+#include "src/link/wire_convert.h"
 #include "src/teleop/follower_limits.h"
 #include "tests/link/link_test_support.h"
 #include "tests/support/alloc_counter.h"
@@ -136,6 +137,14 @@ void ExpectPairExchanges(bool insecure) {
   EXPECT_DOUBLE_EQ(status.effort[3], 4.0);
   EXPECT_EQ(status.last_sequence, 9u);
   EXPECT_EQ(teleop::CompareLimits(MakeStatus(1).limits, status.limits), "");  // the limits cross whole
+  // The stamp arrives as the status's own (n ms on the follower's clock) plus the link's one offset, the system
+  // clock's from the follower's: the offset taken off, the follower's clock to the nanosecond (the leader's log
+  // joins the follower's on it). Stamped at the write instead, it would be no whole millisecond.
+  const std::int64_t follower_clock_ns = status.stamp_ns - follower.StatusStampOffsetNs();
+  EXPECT_EQ(follower_clock_ns % 1'000'000, 0) << follower_clock_ns;
+  EXPECT_GE(follower_clock_ns, 1'000'000);
+  EXPECT_LE(follower_clock_ns, static_cast<std::int64_t>(n) * 1'000'000);
+  EXPECT_NEAR(1e-9 * static_cast<double>(follower.StatusStampOffsetNs() + NowNs(clock) - SystemNowNs()), 0.0, 1.0);
 
   // State commands are the panel's.
   DdsLeaderLink panel(LoopbackOptions(Role::kPanel, insecure));
