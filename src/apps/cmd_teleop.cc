@@ -28,6 +28,7 @@
 #include "src/link/estop_sender.h"
 #include "src/link/two_process_session.h"
 #include "src/teleop/bilateral_harness.h"
+#include "src/teleop/split_session.h"
 
 namespace robossis::apps {
 
@@ -134,8 +135,11 @@ void RegisterTeleop(CLI::App& app, const AppContext& context) {
       r.duration_s = o->duration_s;
       r.out_dir = out.staging();
       const link::TwoProcessResult result = link::RunTwoProcessSession(r);
+      // The shown load against the follower's true load needs both processes' records: from both logs.
       nlohmann::ordered_json summary = {{"link", "dds"},
                                         {"secure", !o->link_options.insecure},
+                                        {"feedback_force_error_n_rms",
+                                         result.joined_summary.at("feedback_force_error_n_rms")},
                                         {"leader", result.leader_summary},
                                         {"follower", result.follower_summary}};
       out.Write("summary.json", summary.dump(2) + "\n");
@@ -278,6 +282,7 @@ void RegisterEStop(CLI::App& app) {
 void RegisterReplay(CLI::App& app, const AppContext& context) {
   struct ReplayOptions {
     std::string log;
+    std::string follower_log;
     std::string out;
     bool no_plots = false;
     bool json = false;
@@ -286,13 +291,18 @@ void RegisterReplay(CLI::App& app, const AppContext& context) {
   CLI::App* replay = app.add_subcommand("replay", "A session log (robossis teleop) back into CSV, summary and figures");
   // No CLI11 file check: the log's reader refuses a missing or non-regular file in the project's words.
   replay->add_option("LOG", r->log, "Session log (DIR/session.rlog)")->required();
+  replay->add_option("--follower-log", r->follower_log,
+                     "With LOG a leader's log (`robossis leader`): the follower's log of the same run (`robossis "
+                     "follower`), joined with it on the follower's clock into one summary");
   replay->add_option("--out", r->out, "Output folder (written atomically)")->required();
   replay->add_flag("--no-plots", r->no_plots, "Skip the figure");
   replay->add_flag("--json", r->json, "Print summary.json to stdout");
   replay->callback([r, &context] {
-    const OutputPolicy output = context.Output({{"LOG", r->log}});
+    const OutputPolicy output = context.Output({{"LOG", r->log}, {"--follower-log", r->follower_log}});
     output.CheckFolder("--out", r->out);
-    const teleop::TeleopOutputs outputs = teleop::ReplaySessionLog(r->log);
+    const teleop::TeleopOutputs outputs = r->follower_log.empty()
+                                              ? teleop::ReplaySessionLog(r->log)
+                                              : teleop::ReplaySplitSession(r->log, r->follower_log);
     for (const std::string& w : outputs.warnings) std::cerr << "robossis: warning: " << w << "\n";
     StagedOutputDir out(r->out, output);
     const std::string units = outputs.summary["units"];

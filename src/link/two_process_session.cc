@@ -10,6 +10,7 @@
 #include "src/core/child_process.h"
 #include "src/core/files.h"
 #include "src/core/json_finite.h"
+#include "src/teleop/split_session.h"
 
 namespace robossis::link {
 
@@ -115,6 +116,8 @@ TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& r) {
   TwoProcessResult result;
   result.leader_summary = ReadSummary(r.out_dir / "leader" / "summary.json", "leader");
   result.follower_summary = ReadSummary(r.out_dir / "follower" / "summary.json", "follower");
+  result.joined_summary =
+      teleop::ReplaySplitSession(r.out_dir / "leader" / "session.rlog", r.out_dir / "follower" / "session.rlog").summary;
   return result;
 }
 

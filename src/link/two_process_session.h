@@ -33,6 +33,9 @@ struct TwoProcessRequest {
 struct TwoProcessResult {
   nlohmann::ordered_json leader_summary;    // leader/summary.json
   nlohmann::ordered_json follower_summary;  // follower/summary.json
+  // Both logs' records in one summary (teleop::ReplaySplitSession): the figures that need both units, such as the
+  // load shown at the hand against the follower's true load (feedback_force_error_n_rms).
+  nlohmann::ordered_json joined_summary;
 };
 
 // Runs the two processes to the end. Throws std::runtime_error naming the unit, how it ended and the last line it

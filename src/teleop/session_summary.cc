@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "src/core/units.h"
 
@@ -39,6 +40,28 @@ void AppendPose(std::string& out, const Eigen::Isometry3d& X) {
 double Norm3(const std::array<double, 3>& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 }  // namespace
+
+SummaryOptions SummaryOptionsFromMeta(const nlohmann::json& meta) {
+  SummaryOptions o;
+  o.leader_rate_hz = meta.at("rate_hz").get<double>();
+  o.follower_rate_hz = meta.at("follower_rate_hz").get<double>();
+  // The caps, for the delay estimate; absent from the logs written before they were recorded (then unknown).
+  if (meta.contains("max_linear_speed_m_s")) o.max_linear_speed_m_s = meta.at("max_linear_speed_m_s").get<double>();
+  if (meta.contains("max_angular_speed_rad_s")) {
+    o.max_angular_speed_rad_s = meta.at("max_angular_speed_rad_s").get<double>();
+  }
+  // The leader's feedback map, for the shown load against the true one; absent from older logs (then not judged).
+  if (meta.contains("feedback_gain")) {
+    o.feedback_map_known = true;
+    o.feedback_gain = meta.at("feedback_gain").get<double>();
+    o.feedback_translation_scale = meta.at("feedback_translation_scale").get<double>();
+    const std::vector<double> R = meta.at("feedback_R_FO").get<std::vector<double>>();
+    if (R.size() != 9) throw std::runtime_error("feedback_R_FO: expected 9 numbers (row-major)");
+    o.feedback_R_FO = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(R.data());
+  }
+  return o;
+}
+
 
 SessionSummary::SessionSummary(const SummaryOptions& options) : options_(options) {
   leader_decimation_ = std::max(1, static_cast<int>(std::lround(options.leader_rate_hz / options.leader_csv_rate_hz)));

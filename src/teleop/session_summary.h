@@ -42,6 +42,10 @@ struct SummaryOptions {
   Eigen::Matrix3d feedback_R_FO = Eigen::Matrix3d::Identity();
 };
 
+// The options of a session log's summary from its header's meta (the loop rates, the caps, the feedback map).
+// Throws nlohmann::json's exceptions when the loop rates are missing, std::runtime_error on a malformed map.
+SummaryOptions SummaryOptionsFromMeta(const nlohmann::json& meta);
+
 // [assumed] The hand-to-set-point delay is estimated over the first this many set-points sent (2^18: 4.4 min at the
 // 1 kHz transfer rate, ~28 MB; a power of two, so that the vectors' doubling ends exactly there): the delay is the
 // transfer's filters', the same all session long, and minutes of motion judge it as well as hours; kept whole, an

@@ -95,27 +95,6 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
 
 namespace {
 
-SummaryOptions OptionsFromMeta(const nlohmann::json& meta) {
-  SummaryOptions o;
-  o.leader_rate_hz = meta.at("rate_hz").get<double>();
-  o.follower_rate_hz = meta.at("follower_rate_hz").get<double>();
-  // The caps, for the delay estimate; absent from the logs written before they were recorded (then unknown).
-  if (meta.contains("max_linear_speed_m_s")) o.max_linear_speed_m_s = meta.at("max_linear_speed_m_s").get<double>();
-  if (meta.contains("max_angular_speed_rad_s")) {
-    o.max_angular_speed_rad_s = meta.at("max_angular_speed_rad_s").get<double>();
-  }
-  // The leader's feedback map, for the shown load against the true one; absent from older logs (then not judged).
-  if (meta.contains("feedback_gain")) {
-    o.feedback_map_known = true;
-    o.feedback_gain = meta.at("feedback_gain").get<double>();
-    o.feedback_translation_scale = meta.at("feedback_translation_scale").get<double>();
-    const std::vector<double> R = meta.at("feedback_R_FO").get<std::vector<double>>();
-    if (R.size() != 9) throw std::runtime_error("feedback_R_FO: expected 9 numbers (row-major)");
-    o.feedback_R_FO = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(R.data());
-  }
-  return o;
-}
-
 enum class Units { kBoth, kLeader, kFollower };
 
 void CheckRequest(const TeleopRequest& r, Units units) {
@@ -177,6 +156,7 @@ struct FollowerSide {
   std::unique_ptr<robot::Follower> back_end;
   std::unique_ptr<FollowerUnit> unit;
   std::optional<sim::MuscleTraction> true_load;  // the Bullet follower's muscles, for the records' true wrench
+  std::int64_t status_stamp_offset_ns = 0;       // the link's (FollowerLink::StatusStampOffsetNs), for the log
 };
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
@@ -194,6 +174,7 @@ FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& s
     config.wrench.arm_masses = m;
   }
   side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, config, *side.back_end, link, clock);
+  side.status_stamp_offset_ns = link.StatusStampOffsetNs();
   if (request.follower == "sim") {
     side.true_load = SimTraction(setup, request.sim_load_n, request.sim_load_nm);
     side.unit->SetTrueLoad(side.true_load ? &*side.true_load : nullptr);
@@ -293,9 +274,12 @@ TeleopOutputs RunSides(const TeleopRequest& request, const TeleopSetup& setup, U
     meta["feedback_translation_scale"] = frame.translation_scale;
     meta["feedback_R_FO"] = std::vector<double>(R.data(), R.data() + 9);
   }
+  // What the follower's link adds to the stamps of the statuses it sends: the leader's log, which holds those
+  // stamps, joins this one on the follower's clock (ReplaySplitSession).
+  if (follower != nullptr) meta["status_stamp_offset_ns"] = follower->status_stamp_offset_ns;
   std::vector<StreamSpec> streams = {LeaderStreamSpec(), FollowerStreamSpec(), EndStreamSpec()};
   SessionLogWriter log(log_file, meta, streams);
-  SessionSummary summary(OptionsFromMeta(meta));
+  SessionSummary summary(SummaryOptionsFromMeta(meta));
   SessionCsv csv(request.csv_dir, leader != nullptr, follower != nullptr);
   std::atomic<bool> recorder_failed{false};  // set by the recorder or the follower unit; the follower unit holds
   std::string recorder_error;                // why (the simulated clock's drain; the real clock's recorder.Stop())
@@ -516,7 +500,7 @@ TeleopOutputs ReplaySessionLog(const std::filesystem::path& log_file) {
   const SessionLog log = ReadSessionLog(log_file);
   SummaryOptions options;
   try {
-    options = OptionsFromMeta(log.meta);
+    options = SummaryOptionsFromMeta(log.meta);
   } catch (const std::exception& e) {
     throw std::runtime_error(log_file.string() + ": the header's meta lacks the loop rates: " + e.what());
   }

@@ -112,8 +112,11 @@ constexpr const char* kTwoProcessFollower = "sim";
 
 TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses) {
   robossis::testing::ScratchDir dir("robossis_link_units_teleop");
+  const bool bullet = std::string(kTwoProcessFollower) == "sim";
   std::string args = std::string("teleop --link dds --follower ") + kTwoProcessFollower + " --device " + FastHand() +
                      " --method proxy-safe --json --duration-s 5 --out " + (dir.path() / "run").string();
+  // The follower's load shown at the hand: the muscles are the Bullet follower's only.
+  if (bullet) args += " --feedback bilateral --sim-load-n 300";
   for (const std::string& a : Common(testing::TestKeys())) args += " " + a;
   const auto run = robossis::testing::Robossis(args, false);
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -139,6 +142,14 @@ TEST(LinkUnitsTest, TeleopOverSecuredDdsDrivesTheBulletFollowerFromTwoProcesses)
   EXPECT_TRUE(HasTransition(follower, "enabled"));
   ExpectNoJump(follower);
   EXPECT_EQ(leader["nonfinite_outputs"], 0);
+  // The load shown (the leader's log) against the follower's true load (the follower's log), joined on the
+  // follower's clock: judged over DDS as in one process.
+  if (bullet) {
+    EXPECT_TRUE(s["feedback_force_error_n_rms"].is_number()) << s["feedback_force_error_n_rms"];
+    EXPECT_GT(leader["max_feedback_force_n"].get<double>(), 0.0);
+    std::cout << "figures: teleop --link dds --feedback bilateral --sim-load-n 300: feedback_force_error_n_rms "
+              << s["feedback_force_error_n_rms"] << ", max_feedback_force_n " << leader["max_feedback_force_n"] << "\n";
+  }
   for (const char* f : {"summary.json", "leader/summary.json", "leader/leader.csv", "leader/session.rlog",
                         "follower/summary.json", "follower/follower.csv", "follower/session.rlog"}) {
     EXPECT_TRUE(std::filesystem::exists(dir.path() / "run" / f)) << f;
