@@ -156,6 +156,7 @@ HarnessResult RunHarness(const HarnessParams& p) {
     twist[0] = v_h;
     const CappedWrench c =
         port.Apply(Vector6d::Zero(), wanted, twist, dt, p.max_force_n, 1.0, p.gain * received.energy_in_j);
+    port.Observe(c.feedback, twist, dt, p.gain * received.energy_in_j);  // the model device shows what it is given
     const double f_shown = c.displayed[0];
     const double f_uncontrolled = CapWrench(Vector6d::Zero(), wanted, p.max_force_n, 1.0).displayed[0];
     dissipated += std::max(0.0, (f_uncontrolled - f_shown) * v_h * dt);

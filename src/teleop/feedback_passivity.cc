@@ -64,6 +64,13 @@ CappedWrench CapWrench(const Vector6d& wall_O, const Vector6d& feedback_O, doubl
 
 namespace {
 
+// What one sample of the port's power (W, > 0: the port gives the hand) over dt adds to the port's books.
+FeedbackPortEnergies PortEnergiesOver(double power_w, double dt) {
+  FeedbackPortEnergies e;
+  (power_w > 0 ? e.out_j : e.in_j) = std::abs(power_w) * dt;
+  return e;
+}
+
 Vector6d Damper(double alpha, double beta, const Vector6d& twist_O) {
   Vector6d d;
   d << alpha * twist_O.head<3>(), beta * twist_O.tail<3>();
@@ -93,6 +100,7 @@ void FeedbackPassivity::Reset() noexcept {
   lambda_held_ = 1;
   taper_share_ = 1;
   uncredited_j_ = 0;
+  taper_alpha_ = 0;
 }
 
 double FeedbackPassivity::Budget(double remote_in_j) const noexcept {
@@ -131,11 +139,8 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
                                       double remote_in_j) noexcept {
   active_ = taper_active_ = false;
   damping_ = 0;
-  if (config_.scheme == FeedbackPassivityScheme::kOff) {
-    const CappedWrench c = CapWrench(wall_O, feedback_O, max_force_n, max_torque_nm);
-    Book(c.feedback.dot(twist_O), dt, remote_in_j);
-    return c;
-  }
+  taper_alpha_ = 0;
+  if (config_.scheme == FeedbackPassivityScheme::kOff) return CapWrench(wall_O, feedback_O, max_force_n, max_torque_nm);
   // What the port may still give this sample: the budget less what it gave (never below zero: a budget that
   // shrank, e.g. a network bound received late, gives nothing now rather than taking back what was given).
   const double allowed = std::max(0.0, Budget(remote_in_j) - energies_.out_j);
@@ -146,7 +151,7 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
   const CappedWrench uncontrolled = CapWrench(wall_O, feedback_O, max_force_n, max_torque_nm);
   CappedWrench c = taper ? CapWrench(wall_O, load, max_force_n, max_torque_nm) : uncontrolled;
   taper_active_ = Changed(c.feedback, uncontrolled.feedback);
-  double power = c.feedback.dot(twist_O);
+  const double power = c.feedback.dot(twist_O);
   // The smoothed action (release_s > 0, no taper): the damper decays from its last value and the load's share
   // recovers at 1/release_s instead of both snapping back the next sample. Holding a damper longer, or the load
   // lower, only takes energy out of the port, so the bound below still holds at every sample.
@@ -180,11 +185,9 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
   }
   if (alpha > 0 || beta > 0 || lambda < 1 || (taper && taper_share_ < 1)) {
     c = CapWrench(wall_O, lambda * load - Damper(alpha, beta, twist_O), max_force_n, max_torque_nm);
-    power = c.feedback.dot(twist_O);
-    if (power * dt > allowed) {
+    if (c.feedback.dot(twist_O) * dt > allowed) {
       // The caps turned it: no feedback this sample.
       c = CapWrench(wall_O, Vector6d::Zero(), max_force_n, max_torque_nm);
-      power = 0;
       lambda = 0;
     }
   }
@@ -194,27 +197,30 @@ CappedWrench FeedbackPassivity::Apply(const Vector6d& wall_O, const Vector6d& fe
   beta_held_ = beta > 1e-3 * config_.max_damping_nm_s_per_rad ? beta : 0.0;
   lambda_held_ = lambda;
   damping_ = alpha;
+  taper_alpha_ = taper_alpha;
   active_ = Changed(c.feedback, uncontrolled.feedback);
-  Book(power, dt, remote_in_j);
+  return c;
+}
+
+FeedbackPortEnergies FeedbackPassivity::Observe(const Vector6d& displayed_feedback_O, const Vector6d& twist_O,
+                                                double dt, double remote_in_j) noexcept {
+  const FeedbackPortEnergies tick = PortEnergiesOver(displayed_feedback_O.dot(twist_O), dt);
+  energies_.in_j += tick.in_j;
+  energies_.out_j += tick.out_j;
   // The taper's damper is a separate element: what it takes is not credited, so the budget pays for the load's own
   // power (a device let go would otherwise spend the damper's take on the load again and creep at the speed where
   // the two cancel). Never more than is left, so the observer stays >= 0.
-  if (taper_alpha > 0) {
-    uncredited_j_ += std::min(taper_alpha * v2 * dt, std::max(0.0, observed_j_));
-    observed_j_ = Budget(remote_in_j) - energies_.out_j;
+  if (taper_alpha_ > 0) {
+    uncredited_j_ += std::min(taper_alpha_ * twist_O.head<3>().squaredNorm() * dt,
+                              std::max(0.0, Budget(remote_in_j) - energies_.out_j));
   }
-  return c;
+  observed_j_ = Budget(remote_in_j) - energies_.out_j;
+  return tick;
 }
 
 bool FeedbackPassivity::Changed(const Vector6d& shown, const Vector6d& uncontrolled) const noexcept {
   return (shown.head<3>() - uncontrolled.head<3>()).norm() > config_.active_tolerance_n ||
          (shown.tail<3>() - uncontrolled.tail<3>()).norm() > config_.active_tolerance_nm;
-}
-
-void FeedbackPassivity::Book(double power, double dt, double remote_in_j) noexcept {
-  if (power > 0) energies_.out_j += power * dt;
-  else energies_.in_j -= power * dt;
-  observed_j_ = Budget(remote_in_j) - energies_.out_j;
 }
 
 }  // namespace robossis::teleop

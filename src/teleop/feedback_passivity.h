@@ -43,7 +43,7 @@
 //   - the released action (release_s, when reserve_j is 0): the damper decays exponentially from its last value and
 //     the load's share recovers at a bounded rate (<= 7.6 %, but the load is held down).
 //
-// Real time: Apply() is noexcept, allocation-free.
+// Real time: Apply() and Observe() are noexcept, allocation-free.
 
 #include <cmath>
 #include <cstdint>
@@ -120,23 +120,23 @@ struct FeedbackPortEnergies {
   double out_j = 0;  // the port gave the hand (P > 0)
 };
 
-// What one sample of the port's power (W, > 0: the port gives the hand) over dt adds to the port's books.
-inline FeedbackPortEnergies PortEnergiesOver(double power_w, double dt) noexcept {
-  FeedbackPortEnergies e;
-  (power_w > 0 ? e.out_j : e.in_j) = std::abs(power_w) * dt;
-  return e;
-}
-
+// The controller and the observer are two calls, as the device sits between them: Apply() decides the wrench to
+// write, Observe() books what the device then displayed (its own caps, or an output it zeroed, can show less than
+// was asked), so the budget is spent on the force the hand actually felt.
 class FeedbackPassivity {
  public:
   explicit FeedbackPassivity(const FeedbackPassivityConfig& config);
 
   // One sample of dt: the wall wrench and the wanted feedback wrench (in O) at the hand's twist (in O);
   // remote_in_j is the energy that entered the network at the follower port, as last received, already multiplied
-  // by the feedback gain (kNetwork only). Returns the displayed wrench (walls + controlled feedback, within the caps)
-  // and books the energy of its feedback part.
+  // by the feedback gain (kNetwork only). Returns the wrench to display (walls + controlled feedback, within the
+  // caps) and its feedback part. Books nothing.
   CappedWrench Apply(const Vector6d& wall_O, const Vector6d& feedback_O, const Vector6d& twist_O, double dt,
                      double max_force_n, double max_torque_nm, double remote_in_j) noexcept;
+  // The observer: books the feedback part of what the device displayed over the sample at the hand's twist (zero
+  // where the device zeroed its output), with the same remote_in_j as Apply(). Returns the sample's energies.
+  FeedbackPortEnergies Observe(const Vector6d& displayed_feedback_O, const Vector6d& twist_O, double dt,
+                               double remote_in_j) noexcept;
   // Starts the books over (the hand left, the follower stopped following: nothing crosses the port).
   void Reset() noexcept;
 
@@ -152,7 +152,6 @@ class FeedbackPassivity {
 
  private:
   double Budget(double remote_in_j) const noexcept;
-  void Book(double power, double dt, double remote_in_j) noexcept;
   // The shown feedback differs from the uncontrolled one by more than the tolerances.
   bool Changed(const Vector6d& shown, const Vector6d& uncontrolled) const noexcept;
   // The load with the taper's share of its working part, and the taper's damper (reserve_j > 0).
@@ -172,6 +171,7 @@ class FeedbackPassivity {
   // not in the budget).
   double taper_share_ = 1;
   double uncredited_j_ = 0;
+  double taper_alpha_ = 0;  // the taper's damper of the last Apply(), for Observe()
 };
 
 }  // namespace robossis::teleop

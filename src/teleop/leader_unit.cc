@@ -322,6 +322,7 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
   Vector6d twist;
   twist << s.v_O, s.w_O;
   const bool port_runs = bilateral && tracking && s.ok();
+  double remote_in = 0;
   if (port_runs) {
     if (shown && !feedback_shown_) {
       passivity_.Reset();
@@ -329,10 +330,10 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     }
     Vector6d wall;
     wall << command.f_O, command.tau_O;
-    const double remote_in = config_.feedback.gain * (follower_.port_energy_in_j - remote_in_base_j_);
+    remote_in = config_.feedback.gain * (follower_.port_energy_in_j - remote_in_base_j_);
+    if (!std::isfinite(remote_in)) remote_in = 0;
     const CappedWrench c = passivity_.Apply(wall, feedback_wanted, twist, 1.0 / config_.rate_hz,
-                                            config_.feedback.max_force_n, config_.feedback.max_torque_nm,
-                                            std::isfinite(remote_in) ? remote_in : 0.0);
+                                            config_.feedback.max_force_n, config_.feedback.max_torque_nm, remote_in);
     command.f_O = c.displayed.head<3>();
     command.tau_O = c.displayed.tail<3>();
     feedback_shown = c.feedback;
@@ -357,9 +358,9 @@ void LeaderUnit::Tick(std::int64_t now_ns) noexcept {
     if (tau_cmd > 0) feedback_shown.tail<3>() *= tau_sent.norm() / tau_cmd;
   }
   if (port_runs) {
-    // The port's books, from the force the hand was actually shown over this tick (a device that zeroed its output
-    // gave the hand nothing, whatever the controller was asked to show).
-    const FeedbackPortEnergies tick = PortEnergiesOver(feedback_shown.dot(twist), 1.0 / config_.rate_hz);
+    // The observer books the force the hand was actually shown over this tick (a device that zeroed its output
+    // gave the hand nothing, whatever the controller was asked to show); the run's books add its samples up.
+    const FeedbackPortEnergies tick = passivity_.Observe(feedback_shown, twist, 1.0 / config_.rate_hz, remote_in);
     counters_.feedback_energy_in_j += tick.in_j;
     counters_.feedback_energy_out_j += tick.out_j;
     counters_.max_feedback_energy_j = std::max(counters_.max_feedback_energy_j,

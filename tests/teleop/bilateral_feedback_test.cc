@@ -194,10 +194,11 @@ haptics::HandScript SwayingHand() {
   return s;
 }
 
-// The feedback port's books count the force the device actually displayed: a device whose forces are disabled (it
-// writes zero) gives the hand nothing and takes nothing from it, however the hand moves against the load the
-// controller was asked to show. Booked from the controller's own totals, as before, the port counted the energy of a
-// force it never showed, so this test can fail; with the forces on, the same motion books both ways.
+// The feedback port's books, the run's and the passivity observer's own, count the force the device actually
+// displayed: a device whose forces are disabled (it writes zero) gives the hand nothing and takes nothing from it,
+// however the hand moves against the load the controller was asked to show. An observer that booked the controller's
+// own output counted the energy of a force never shown (its E_in − E_out moved), so this test can fail; with the
+// forces on, the same motion books both ways.
 TEST(BilateralFeedbackTest, TheBooksCountOnlyTheForceTheDeviceDisplayed) {
   for (const bool forces : {false, true}) {
     SCOPED_TRACE(forces ? "forces on" : "forces disabled");
@@ -215,6 +216,7 @@ TEST(BilateralFeedbackTest, TheBooksCountOnlyTheForceTheDeviceDisplayed) {
       EXPECT_EQ(r.feedback_energy_in_j, 0.0);
       EXPECT_EQ(r.feedback_energy_out_j, 0.0);
       EXPECT_EQ(h.unit.counters().max_feedback_energy_j, 0.0);
+      EXPECT_EQ(r.passivity_observed_j, 0.0);
     }
   }
 }
@@ -628,10 +630,12 @@ TEST(FeedbackPassivityTest, ActsOnlyWhereItChangesTheShownForceBeyondItsToleranc
   along[0] = 0.01;
   against[0] = -0.01;
   constexpr double kDt = 1e-3;
-  port.Apply(Vector6d::Zero(), load, along, kDt, 15, 0.3, 0);  // the load would give energy: no budget, faded
-  EXPECT_TRUE(port.active());
+  port.Observe(port.Apply(Vector6d::Zero(), load, along, kDt, 15, 0.3, 0).feedback, along, kDt, 0);
+  EXPECT_TRUE(port.active());  // the load would give energy: no budget, faded
   EXPECT_TRUE(port.taper_active());
-  for (int k = 0; k < 500; ++k) port.Apply(Vector6d::Zero(), load, against, kDt, 15, 0.3, 0);
+  for (int k = 0; k < 500; ++k) {
+    port.Observe(port.Apply(Vector6d::Zero(), load, against, kDt, 15, 0.3, 0).feedback, against, kDt, 0);
+  }
   EXPECT_FALSE(port.active());
   EXPECT_FALSE(port.taper_active());
 }
