@@ -369,10 +369,13 @@ void RsrSimulation::Command(const robot::RsrJointCommand& command) noexcept {
 }
 
 void RsrSimulation::Service(double now_s) noexcept {
-  // Steps whose end is due by now_s (half a step of tolerance against rounding). A fault in any of them is the
-  // call's fault, though later steps may be clean: several steps in one call must not hide one.
+  // Steps whose end is due by now_s, never one that ends later: the drives' target for an instant still ahead
+  // would be the newest command extrapolated, and a controller that is late itself (its command older than the
+  // extrapolation's bound by then, though not by the time its next tick moves over) would find the robot held short
+  // of its path, then taken back to it in one step above the speed cap. A fault in any of the steps is the call's
+  // fault, though later steps may be clean: several steps in one call must not hide one.
   robot::FollowerFault first = robot::FollowerFault::kNone;
-  while (time_s_ + 0.5 * step_s_ <= now_s) {
+  while (time_s_ + step_s_ <= now_s + kStepDueToleranceS) {
     const SimStepStatus status = Step();
     if (first == robot::FollowerFault::kNone) first = state_.fault;
     if (status == SimStepStatus::kUnstable) break;

@@ -20,6 +20,11 @@
 
 namespace robossis::sim {
 
+// A step counts as due this long before its end [assumed]: above the rounding of the summed step times (an hour of
+// 1 kHz steps drifts by at most ~1.5 µs, typically by ns), and short enough that the physics is never ahead of its
+// clock by more than 0.1 µm of motion at 100 mm/s.
+inline constexpr double kStepDueToleranceS = 1e-6;
+
 enum class SimStepStatus { kOk, kActuatorLimit, kJointLimit, kUnstable };
 const char* ToString(SimStepStatus status);
 
@@ -59,8 +64,8 @@ class RsrSimulation final : public robot::Follower {
   // directly); disabled, its drives hold the joints where they are. The command is extrapolated with its velocity
   // to the end of each step (at most config.physics.command_extrapolation_max_s past its time stamp); a step that
   // ends before the newest command's time stamp (the physics catching up after a late step) targets the straight
-  // path from the previous step's target to that command, at the step's time. Service() steps the physics until
-  // the simulated time reaches now_s. The fault code is the last step's condition, or after Service() the first
+  // path from the previous step's target to that command, at the step's time. Service() makes the steps that end
+  // by now_s (never one ending later: the physics does not run ahead of its clock). The fault code is the last step's condition, or after Service() the first
   // fault of the steps it made.
   bool Enable() noexcept override;
   void Disable() noexcept override;
