@@ -176,7 +176,6 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
 struct FollowerSide {
   std::unique_ptr<robot::Follower> back_end;
   std::unique_ptr<FollowerUnit> unit;
-  std::optional<sim::MuscleTraction> true_load;  // the Bullet follower's muscles, for the records' true wrench
 };
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
@@ -194,10 +193,6 @@ FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& s
     config.wrench.arm_masses = m;
   }
   side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, config, *side.back_end, link, clock);
-  if (request.follower == "sim") {
-    side.true_load = SimTraction(setup, request.sim_load_n, request.sim_load_nm);
-    side.unit->SetTrueLoad(side.true_load ? &*side.true_load : nullptr);
-  }
   return side;
 }
 
