@@ -56,6 +56,11 @@ struct RsrFollowerState {
   bool enabled = false;                                     // drives powered and following commands
   bool homed = false;                                       // joint positions referenced
   FollowerFault fault = FollowerFault::kNone;               // the back end's current fault condition
+  // The external wrench on the ring over the step that made this measurement, [force at P; moment about P] in F
+  // (the frame and point of the statics, and of the wrench the follower estimates from the efforts): the load the
+  // efforts above held. Only a simulation knows it, because it applies that load itself; hardware leaves it unknown.
+  bool true_wrench_known = false;
+  Vector6d true_wrench_F = Vector6d::Zero();
   bool faulted() const noexcept { return fault != FollowerFault::kNone; }
 };
 

@@ -489,6 +489,7 @@ void RsrSimulation::Measure() noexcept {
   }
   diagnostics_.max_penetration_m = 0;
   diagnostics_.contact_points = 0;
+  diagnostics_.contact_loaded = false;
   const int manifolds = b.dispatcher->getNumManifolds();
   for (int k = 0; k < manifolds; ++k) {
     const btPersistentManifold* m = b.dispatcher->getManifoldByIndexInternal(k);
@@ -498,8 +499,15 @@ void RsrSimulation::Measure() noexcept {
         ++diagnostics_.contact_points;
         diagnostics_.max_penetration_m = std::max(diagnostics_.max_penetration_m, -d);
       }
+      if (d < 0 || m->getContactPoint(c2).getAppliedImpulse() != 0) diagnostics_.contact_loaded = true;
     }
   }
+  // The true external wrench of this measurement: what the muscles applied over the step that made it (Step(): at
+  // the pose and velocity that step started from; none before the first step), the load the efforts above held.
+  // Gravity is not external. The fragments' contact is the one external load the simulation does not set itself (the
+  // solver's impulses): a step in which it carried load leaves the true wrench unknown rather than short of it.
+  state_.true_wrench_F = diagnostics_.traction.wrench_P_F;
+  state_.true_wrench_known = !diagnostics_.contact_loaded;
 }
 
 }  // namespace robossis::sim

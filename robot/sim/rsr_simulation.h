@@ -4,8 +4,9 @@
 // carries the distal femur fragment against muscle traction and contact with the fixed proximal fragment.
 //
 // Served through robot::Follower: joint commands in (eq. 13 order), measured joints, ring pose and actuator efforts
-// out. No Bullet type appears in this header: Bullet's raw new/delete objects live in the implementation, wrapped
-// once, and everything is converted to Eigen there.
+// out, and with each measurement the external wrench the simulation applied to the ring over its step (the muscles':
+// RsrFollowerState::true_wrench_F, what a real robot cannot report). No Bullet type appears in this header: Bullet's
+// raw new/delete objects live in the implementation, wrapped once, and everything is converted to Eigen there.
 //
 // Real-time: Command(), State() and Step() are noexcept and do not throw; Command() and State() never allocate.
 
@@ -39,6 +40,7 @@ struct SimDiagnostics {
   bool joint_limit_active = false;         // a stroke or rotary end stop carried load this step
   double max_penetration_m = 0;            // deepest fragment interpenetration this step (0 if apart)
   int contact_points = 0;
+  bool contact_loaded = false;             // the fragments touched or their contact carried an impulse this step
   double max_loop_error_m = 0;             // largest gap at the three spherical joints (loop closure)
   double max_cone_rad = 0;                 // largest spherical-joint cone angle (limit: model limits)
 };

@@ -216,11 +216,6 @@ void FollowerUnit::Tick() noexcept {
   }
 
   ObserveWrench(measured, dt);
-  rec.true_load_known = true_load_known_;
-  if (true_load_ != nullptr && measured.time_s != rec.meas_time_s) {  // a new measurement (rec: the last tick's)
-    const Vector6d W = true_load_->Evaluate(measured.X_FM, twist_cmd_.head<3>(), twist_cmd_.tail<3>()).wrench_P_F;
-    StoreVector<6>(W, rec.true_wrench_F);
-  }
 
   // 6. Status (decimated) and the record.
   if (now >= next_status_s_) {
@@ -241,6 +236,8 @@ void FollowerUnit::Tick() noexcept {
   StoreVector<6>(measured.q, rec.meas_joints);
   StoreVector<6>(measured.effort, rec.effort);
   StoreVector<6>(wrench_F_, rec.wrench_F);
+  rec.true_load_known = measured.true_wrench_known;
+  StoreVector<6>(measured.true_wrench_F, rec.true_wrench_F);
   rec.port_energy_in_j = port_.energies().in_j;
   rec.port_energy_out_j = port_.energies().out_j;
   rec.port_budgeted = budget_running_;

@@ -37,7 +37,6 @@
 #include "robot/actuation/actuator.h"
 #include "robot/feasible_motion.h"
 #include "robot/follower.h"
-#include "robot/sim/muscle_traction.h"
 #include "src/core/rt/clock.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/core/rt/spsc_queue.h"
@@ -81,8 +80,9 @@ struct FollowerTickRecord {
   // the bound started, divided by the gain, on the port's own scale).
   bool port_budgeted = false;
   double port_budget_j = 0;
-  // The true external wrench where the back end is a simulation that says what it applies (SetTrueLoad): the
-  // muscles' model at the measured pose and the commanded twist; what summary.json judges the shown load against.
+  // The true external wrench of the measurement, where the back end knows it (a simulation, which applies the load
+  // itself: robot::RsrFollowerState::true_wrench_F; hardware never does); what summary.json judges the shown load
+  // against.
   bool true_load_known = false;
   std::array<double, 6> true_wrench_F{};
   double meas_min_margin = 0;  // the measured pose's tightest joint-limit margin (m or rad; < 0 violated)
@@ -136,13 +136,6 @@ class FollowerUnit final : public rt::PeriodicTask {
   // The recorder's failure flag (set by the recorder on a write error, by this unit when its queue is full): once
   // set, the unit holds. Call before the loop starts; the flag must outlive the ticks. Null: no recorder watched.
   void WatchRecorder(std::atomic<bool>* failed) noexcept { recorder_failed_ = failed; }
-  // The simulation's own load model (a copy of what the Bullet follower applies; nullptr: no muscles, no load), so
-  // that the records carry the true external wrench beside the estimate. Call before the loop starts; it must
-  // outlive the ticks. Not called: the true load is not known (hardware).
-  void SetTrueLoad(const sim::MuscleTraction* traction) noexcept {
-    true_load_ = traction;
-    true_load_known_ = true;
-  }
 
   OperatingState state() const noexcept { return machine_.state(); }
   FaultReason reason() const noexcept { return machine_.reason(); }
@@ -200,8 +193,6 @@ class FollowerUnit final : public rt::PeriodicTask {
   Vector6d wrench_F_ = Vector6d::Zero();
   WrenchSource wrench_source_ = WrenchSource::kNone;  // kNone: no estimate held (the next one is computed)
   double wrench_meas_time_s_ = 0;  // the measurement the estimate was computed from (RsrFollowerState::time_s)
-  const sim::MuscleTraction* true_load_ = nullptr;
-  bool true_load_known_ = false;
   FollowerPassivity port_;
   // The network form's bound: the newest set-point's hand energy, and while the bound runs the offset that puts the
   // hand's input since it started on the port's out_j scale (restarted when following or the leader session starts).

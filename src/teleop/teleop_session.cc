@@ -155,8 +155,7 @@ LeaderSide MakeLeaderSide(const TeleopRequest& request, const TeleopSetup& setup
 struct FollowerSide {
   std::unique_ptr<robot::Follower> back_end;
   std::unique_ptr<FollowerUnit> unit;
-  std::optional<sim::MuscleTraction> true_load;  // the Bullet follower's muscles, for the records' true wrench
-  std::int64_t status_stamp_offset_ns = 0;       // the link's (FollowerLink::StatusStampOffsetNs), for the log
+  std::int64_t status_stamp_offset_ns = 0;  // the link's (FollowerLink::StatusStampOffsetNs), for the log
 };
 
 FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& setup, FollowerLink& link,
@@ -175,10 +174,6 @@ FollowerSide MakeFollowerSide(const TeleopRequest& request, const TeleopSetup& s
   }
   side.unit = std::make_unique<FollowerUnit>(*setup.rsr, setup.actuation, config, *side.back_end, link, clock);
   side.status_stamp_offset_ns = link.StatusStampOffsetNs();
-  if (request.follower == "sim") {
-    side.true_load = SimTraction(setup, request.sim_load_n, request.sim_load_nm);
-    side.unit->SetTrueLoad(side.true_load ? &*side.true_load : nullptr);
-  }
   return side;
 }
 

@@ -1,5 +1,7 @@
 // The Bullet model of the RSR: kinematics, statics against J^-T, contact, drive limits, the follower interface.
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "robot/rsr_kinematics.h"
@@ -57,8 +59,9 @@ TEST(RsrSimulationTest, StaticEquilibriumMatchesJacobianStatics) {
   RsrSimulation sim(Data().model, Data().config, &Data().fragments, &traction, OffHome(), options);
   Hold(sim, OffHome(), 0.5);
   const robot::RsrFollowerState s = sim.State();
-  const robot::RsrStaticsResult expected =
-      robot::CalcActuatorEfforts(Data().model, s.X_FM, sim.diagnostics().traction.wrench_P_F);
+  // The external wrench the simulation reports with the measurement is the one the drives hold.
+  ASSERT_TRUE(s.true_wrench_known);
+  const robot::RsrStaticsResult expected = robot::CalcActuatorEfforts(Data().model, s.X_FM, s.true_wrench_F);
   ASSERT_FALSE(expected.singular);
   EXPECT_NEAR(sim.diagnostics().traction.axial_force_n, 517, 1.0);
   for (int i = 0; i < 3; ++i) {
@@ -67,6 +70,44 @@ TEST(RsrSimulationTest, StaticEquilibriumMatchesJacobianStatics) {
     EXPECT_NEAR(s.effort[robot::ThetaIndex(i)], expected.rotary_torque_nm[i],
                 0.01 * expected.rotary_torque_nm.cwiseAbs().maxCoeff()) << "rotary drive " << i + 1;
   }
+}
+
+// Each measurement carries the muscles' wrench of the step that made it, evaluated at the pose and the measured
+// velocity that step started from, [force at P; moment about P] in F (the wrench estimate's convention), while the
+// ring moves (the dampers count); none before the first step.
+TEST(RsrSimulationTest, ReportsTheMusclesWrenchOfEachStepWithItsMeasurement) {
+  const MuscleTraction traction = Traction(OffHome(), 517, 74);
+  SimOptions options;
+  options.with_bone = false;
+  RsrSimulation sim(Data().model, Data().config, nullptr, &traction, OffHome(), options);
+  ASSERT_TRUE(sim.State().true_wrench_known);
+  EXPECT_EQ(sim.State().true_wrench_F, Vector6d::Zero());
+  Vector6d moved;
+  moved << 15, -10, 310, 4, -3, 11;  // mm, deg: 10 mm along the femur axis, 3 deg about it
+  const robot::RsrJointVector q0 = robot::CalcInverseKinematics(Data().model, OffHome()).joints.actuated();
+  const robot::RsrJointVector q1 = robot::CalcInverseKinematics(Data().model, PoseFromMmDeg(moved)).joints.actuated();
+  constexpr double kRampS = 0.5;
+  double max_damping_n = 0;  // the muscles' wrench at the measured velocity against the one at rest, same pose
+  robot::RsrJointCommand cmd;
+  for (long k = 1; k <= 700; ++k) {
+    const double t = k * sim.step_s();
+    const double a = std::min(1.0, t / kRampS);
+    cmd.time_s = t;
+    cmd.q = q0 + a * (q1 - q0);
+    cmd.q_dot = t < kRampS ? robot::RsrJointVector((q1 - q0) / kRampS) : robot::RsrJointVector::Zero();
+    sim.Command(cmd);
+    const Eigen::Isometry3d X_start = sim.State().X_FM;
+    const Eigen::Vector3d v_start = sim.diagnostics().v_P_F;
+    const Eigen::Vector3d w_start = sim.diagnostics().w_F;
+    ASSERT_EQ(sim.Step(), SimStepStatus::kOk) << "at t = " << sim.time_s();
+    const robot::RsrFollowerState s = sim.State();
+    const Vector6d applied = traction.Evaluate(X_start, v_start, w_start).wrench_P_F;
+    ASSERT_TRUE(s.true_wrench_known);
+    ASSERT_LE((s.true_wrench_F - applied).norm(), 1e-9 * applied.norm()) << "at t = " << s.time_s;
+    const Vector6d at_rest = traction.Evaluate(X_start, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).wrench_P_F;
+    max_damping_n = std::max(max_damping_n, (applied - at_rest).head<3>().norm());
+  }
+  EXPECT_GT(max_damping_n, 3.0);  // 300 N·s/m at 20 mm/s: the velocity mattered
 }
 
 // Home distracted by 5 mm along the axis: the legs stay parallel to it and the cut faces 5 mm apart (at home
@@ -137,6 +178,13 @@ TEST(RsrSimulationTest, PressedFragmentsDoNotInterpenetrateBeyondTheTolerance) {
     limit_seen = limit_seen || status == SimStepStatus::kActuatorLimit;
     max_pen = std::max(max_pen, sim.diagnostics().max_penetration_m);
     if (sim.diagnostics().contact_points > 0) ++contact_steps;
+    // The contact's load is the solver's, not set by the simulation: the true external wrench is then not known.
+    if (sim.diagnostics().contact_points > 0) {
+      ASSERT_FALSE(sim.State().true_wrench_known) << "at t = " << sim.time_s();
+    }
+    if (k == 1) {
+      EXPECT_TRUE(sim.State().true_wrench_known);  // 2 mm apart: nothing but the (absent) muscles
+    }
   }
   EXPECT_GT(contact_steps, 100);
   EXPECT_TRUE(limit_seen);  // the drives cannot push through bone: the simulation says so

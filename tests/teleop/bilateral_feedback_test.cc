@@ -376,7 +376,9 @@ TEST(WrenchEstimateTest, InvertsTheStaticsAndRemovesTheCarriedWeight) {
 }
 
 // The Bullet follower holding the ring at home against the muscles (517 N along the femur axis, 74 N·m about it):
-// the estimate from its drive efforts, the ring's and the arms' weight removed, is the traction it applies.
+// the estimate from its drive efforts, the ring's and the arms' weight removed, is the traction it applies, as it
+// reports it with the measurement (the true wrench summary.json judges the shown load against: same frame, same
+// point).
 TEST(WrenchEstimateTest, TheBulletFollowersEffortsGiveTheMusclesTraction) {
   const sim::SimConfig config = sim::LoadSimConfig(ConfigPath("sim.yaml"), DefaultDataDir());
   const Eigen::Isometry3d home = Rsr().geometry().X_FM_home;
@@ -394,7 +396,9 @@ TEST(WrenchEstimateTest, TheBulletFollowersEffortsGiveTheMusclesTraction) {
   estimate_config.arm_masses = config.masses;
   const robot::RsrFollowerState state = simulation.State();
   const Vector6d estimate = EstimateExternalWrench(Rsr(), state.X_FM, state.effort, estimate_config);
-  const Vector6d truth = simulation.diagnostics().traction.wrench_P_F;
+  ASSERT_TRUE(state.true_wrench_known);
+  const Vector6d truth = state.true_wrench_F;
+  EXPECT_EQ(truth, simulation.diagnostics().traction.wrench_P_F);
   ASSERT_GT(truth.head<3>().norm(), 500);
   EXPECT_LT((estimate.head<3>() - truth.head<3>()).norm(), 0.02 * truth.head<3>().norm())
       << estimate.transpose() << " vs " << truth.transpose();

@@ -6,8 +6,6 @@
 #include <gtest/gtest.h>
 
 #include "robot/actuation/pulse_recorder_follower.h"
-#include "robot/sim/muscle_traction.h"
-#include "robot/sim/sim_config.h"
 #include "src/core/config.h"
 #include "src/core/units.h"
 #include "src/teleop/in_process_link.h"
@@ -465,14 +463,70 @@ TEST_F(FollowerUnitTest, RecordsTheStampOfTheSetPointItUsedAndWhenItCommanded) {
   EXPECT_EQ(accepted, 10);
 }
 
+// A back end that knows the true external wrench, as a simulation does: the pulse recorder's measurement with a
+// wrench of its own for each Service() (the n-th: TrueWrench(n)).
+class KnownLoadFollower final : public robot::Follower {
+ public:
+  explicit KnownLoadFollower(robot::Follower& inner) : inner_(inner) {}
+  static Vector6d TrueWrench(std::uint64_t n) {
+    Vector6d W;
+    W << 0.5 * static_cast<double>(n), -120, 300, 2, -7, 0.25 * static_cast<double>(n);
+    return W;
+  }
+  bool Enable() noexcept override { return inner_.Enable(); }
+  void Disable() noexcept override { inner_.Disable(); }
+  bool Home() noexcept override { return inner_.Home(); }
+  bool MeasuresJoints() const noexcept override { return inner_.MeasuresJoints(); }
+  bool ResetFault() noexcept override { return inner_.ResetFault(); }
+  void Command(const robot::RsrJointCommand& command) noexcept override { inner_.Command(command); }
+  void Service(double now_s) noexcept override {
+    inner_.Service(now_s);
+    ++services_;
+  }
+  robot::RsrFollowerState State() const noexcept override {
+    robot::RsrFollowerState s = inner_.State();
+    s.true_wrench_known = true;
+    s.true_wrench_F = TrueWrench(services_);
+    return s;
+  }
+
+ private:
+  robot::Follower& inner_;
+  std::uint64_t services_ = 0;
+};
+
+// The records carry the true external wrench of the measurement the tick took, as the back end reported it, and
+// say it is unknown where the back end does not know it (hardware; here the pulse recorder).
+TEST_F(FollowerUnitTest, RecordsCarryTheBackEndsTrueWrenchOnlyWhereItKnowsIt) {
+  EnableAndFollow();
+  FollowerTickRecord r;
+  int records = 0;
+  while (unit_.TakeRecord(r)) {
+    ++records;
+    EXPECT_FALSE(r.true_load_known);
+  }
+  EXPECT_EQ(records, 500);
+
+  InProcessLink link(clock_);
+  actuation::PulseRecorderFollower recorder(model_, actuation_, home_, 1 << 16, 1 << 16);
+  KnownLoadFollower back_end(recorder);
+  FollowerUnit unit(model_, actuation_, config_, back_end, link, clock_);
+  for (int i = 0; i < 20; ++i) {
+    clock_.AdvanceNs(kTickNs);
+    unit.Tick();
+  }
+  records = 0;
+  while (unit.TakeRecord(r)) {
+    ++records;
+    ASSERT_TRUE(r.true_load_known);
+    const Vector6d W = KnownLoadFollower::TrueWrench(r.tick);  // one Service() a tick
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(r.true_wrench_F[i], W[i]) << "tick " << r.tick << ", component " << i;
+  }
+  EXPECT_EQ(records, 20);
+}
+
 TEST_F(FollowerUnitTest, TickAllocatesNothing) {
   leader_flags_ = kSetPointPresence | kSetPointEnergyBudget;  // the network form's follower half runs too
-  // The true load the records carry, as for the Bullet follower with its muscles.
-  const sim::SimConfig sim = sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir());
-  sim::MuscleTraction traction(sim.traction, Eigen::Vector3d::UnitZ(),
-                               Eigen::Vector3d(0, 0, sim.bone.fracture_site_z_m), home_);
-  traction.Calibrate(home_, home_.linear(), 517, 74);
-  unit_.SetTrueLoad(&traction);
   Command(StateCommand::kEnable);
   Run(0.01);
   leader_offset_.z() = 0.069;  // near the upper strokes: the guard works too
