@@ -67,8 +67,8 @@ class RsrSimulation final : public robot::Follower {
   // to the end of each step (at most config.physics.command_extrapolation_max_s past its time stamp); a step that
   // ends before the newest command's time stamp (the physics catching up after a late step) targets the straight
   // path from the previous step's target to that command, at the step's time. Service() makes the steps that end
-  // by now_s (never one ending later: the physics does not run ahead of its clock). The fault code is the last step's condition, or after Service() the first
-  // fault of the steps it made.
+  // by now_s (never one ending later: the physics does not run ahead of its clock). The fault code is the last
+  // step's condition, or after Service() the first fault of the steps it made.
   bool Enable() noexcept override;
   void Disable() noexcept override;
   bool Home() noexcept override { return true; }  // the physics' joint positions: homed from the start

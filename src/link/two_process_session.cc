@@ -116,8 +116,8 @@ TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& r) {
   TwoProcessResult result;
   result.leader_summary = ReadSummary(r.out_dir / "leader" / "summary.json", "leader");
   result.follower_summary = ReadSummary(r.out_dir / "follower" / "summary.json", "follower");
-  result.joined_summary =
-      teleop::ReplaySplitSession(r.out_dir / "leader" / "session.rlog", r.out_dir / "follower" / "session.rlog").summary;
+  const std::filesystem::path leader_log = r.out_dir / "leader" / "session.rlog";
+  result.joined_summary = teleop::ReplaySplitSession(leader_log, r.out_dir / "follower" / "session.rlog").summary;
   return result;
 }
 
