@@ -14,12 +14,11 @@
 #include <vector>
 
 #include "robot/rsr_kinematics.h"
-#include "robot/sim/simulated_plant.h"
-#include "robot/sim/sim_config.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
 #include "src/teleop/session_summary.h"
+#include "tests/teleop/bullet_plant_fixture.h"
 #include "tests/teleop/follower_fixture.h"
 
 namespace robossis::teleop {
@@ -115,16 +114,9 @@ class FollowerMeasuredSpeedTest : public ::testing::Test, protected ShippedFollo
     config.setpoint.caps.max_linear_speed_m_s = kCapMps;
     rt::SimulatedClock clock;
     InProcessLink link(clock);
-    sim::SimOptions options;
-    options.with_bone = false;
-    options.with_traction = false;
-    const sim::SimConfig sim_config = sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir());
-    sim::SimulatedPlant plant(std::make_unique<sim::RsrSimulation>(model_, sim_config, nullptr, nullptr, home_, options));
+    sim::SimulatedPlant plant = UnloadedBulletPlant(model_, home_);
     FollowerUnit unit(model_, actuation_, config, plant, link, clock);
-    StateCommandMessage enable;
-    enable.command = StateCommand::kEnable;
-    enable.sequence = 1;
-    link.operator_commands().Send(enable);
+    SendEnable(link);
 
     SummaryOptions summary_options;
     summary_options.max_linear_speed_m_s = kCapMps;

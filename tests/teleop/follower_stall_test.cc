@@ -13,10 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "robot/sim/simulated_plant.h"
-#include "robot/sim/sim_config.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
+#include "tests/teleop/bullet_plant_fixture.h"
 #include "tests/teleop/follower_fixture.h"
 
 namespace robossis::teleop {
@@ -43,16 +42,9 @@ class FollowerStallTest : public ::testing::Test, protected ShippedFollowerSetup
     config.setpoint.max_linear_accel_m_s2 = 1.0;
     rt::SimulatedClock clock;
     InProcessLink link(clock);
-    sim::SimOptions options;
-    options.with_bone = false;
-    options.with_traction = false;
-    const sim::SimConfig sim_config = sim::LoadSimConfig(DefaultDataDir() / "config" / "sim.yaml", DefaultDataDir());
-    sim::SimulatedPlant plant(std::make_unique<sim::RsrSimulation>(model_, sim_config, nullptr, nullptr, home_, options));
+    sim::SimulatedPlant plant = UnloadedBulletPlant(model_, home_);
     FollowerUnit unit(model_, actuation_, config, plant, link, clock);
-    StateCommandMessage enable;
-    enable.command = StateCommand::kEnable;
-    enable.sequence = 1;
-    link.operator_commands().Send(enable);
+    SendEnable(link);
 
     // The leader moves along x at the cap within the acceleration cap: 0.2 s up to the cap, 0.3 s at it, 0.2 s down
     // (50 mm), from 0.05 s. The stalls fall in the cruise.
