@@ -116,8 +116,9 @@ TwoProcessResult RunTwoProcessSession(const TwoProcessRequest& r) {
   TwoProcessResult result;
   result.leader_summary = ReadSummary(r.out_dir / "leader" / "summary.json", "leader");
   result.follower_summary = ReadSummary(r.out_dir / "follower" / "summary.json", "follower");
-  const std::filesystem::path leader_log = r.out_dir / "leader" / "session.rlog";
-  result.joined_summary = teleop::ReplaySplitSession(leader_log, r.out_dir / "follower" / "session.rlog").summary;
+  const std::filesystem::path leader_rlog = r.out_dir / "leader" / "session.rlog";
+  const std::filesystem::path follower_rlog = r.out_dir / "follower" / "session.rlog";
+  result.joined_summary = teleop::ReplaySplitSession(leader_rlog, follower_rlog).summary;
   return result;
 }
 
