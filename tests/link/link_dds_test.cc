@@ -43,10 +43,20 @@ using testing::WaitFor;
 
 std::int64_t NowNs(const rt::Clock& c) { return static_cast<std::int64_t>(std::llround(c.NowS() * 1e9)); }
 
+// Waits until the set-points in flight have arrived: the follower's count of those it received stays the same for
+// 100 ms. A fixed sleep is not enough on a loaded machine.
+void AwaitArrivals(DdsFollowerLink& follower) {
+  EXPECT_TRUE(WaitFor([&] {
+    const std::uint64_t before = follower.Statistics().setpoints_received;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    return follower.Statistics().setpoints_received == before;
+  }));
+}
+
 // Lets the set-points in flight arrive, then takes the newest, so that counters read afterwards see only what the
 // test sends next.
 void Settle(DdsFollowerLink& follower) {
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  AwaitArrivals(follower);
   teleop::SetPointMessage m;
   std::int64_t arrival = 0;
   follower.TakeSetPoint(m, arrival);
@@ -116,6 +126,7 @@ void ExpectPairExchanges(bool insecure) {
   DdsLeaderLink leader(LoopbackOptions(Role::kLeader, insecure));
   std::uint64_t seq = 0;
   ASSERT_TRUE(StreamUntilAccepted(leader, follower, clock, 77, seq, 20));
+  AwaitArrivals(follower);  // the last one sent may land after the count was reached
   teleop::SetPointMessage got;
   std::int64_t arrival = 0;
   ASSERT_TRUE(follower.TakeSetPoint(got, arrival));
