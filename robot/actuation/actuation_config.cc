@@ -14,6 +14,12 @@ namespace {
 std::string Num(double v) { return FormatNumber(v); }
 }  // namespace
 
+std::array<double, kNumMotors> ActuationConfig::MaxJointSpeeds() const {
+  std::array<double, kNumMotors> speeds{};
+  for (int i = 0; i < kNumMotors; ++i) speeds[i] = motors[i].max_step_rate_hz / motors[i].steps_per_unit;
+  return speeds;
+}
+
 void ActuationConfig::Validate() const {
   if (!(std::isfinite(ik_correction_gain_per_s) && ik_correction_gain_per_s >= 0)) {
     throw std::invalid_argument("actuation config: 'ik_correction_gain_per_s' must be finite and >= 0");

@@ -30,6 +30,9 @@ struct ActuationConfig {
   double ik_correction_gain_per_s = 20;  // [assumed]
 
   void Validate() const;  // throws std::invalid_argument naming the field
+  // The motors' top speeds in joint units (rad/s rotary, m/s linear), eq. 13 order: max_step_rate_hz over
+  // steps_per_unit.
+  std::array<double, kNumMotors> MaxJointSpeeds() const;
   // The checks that need the tick rate (transfer.yaml `rates.actuation_rate_hz`): the IK correction within one
   // tick, and the per-tick pulse buffer. Throws std::invalid_argument naming the field and the rate.
   void ValidateAtRate(double actuation_rate_hz) const;

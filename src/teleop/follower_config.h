@@ -33,8 +33,9 @@ struct FollowerConfig {
   double status_rate_hz = 1000;       // [assumed] >= 100 Hz
   std::size_t recorder_capacity = 65536;  // [assumed]
   robot::FeasibleMotionConfig guard;
-  // ModelFingerprint of the rsr.yaml the model was loaded from (TeleopSetup::Load), published with the status so
-  // that a leader on another machine can tell it checks against another workspace. 0: not known.
+  // ModelFingerprint of the rsr.yaml and actuation.yaml the model and the drives were loaded from
+  // (TeleopSetup::Load), published with the status so that a leader on another machine can tell it checks against
+  // another workspace or keeps within another robot's motor speeds. 0: not known.
   std::uint64_t model_fingerprint = 0;
   // The weight the wrench estimate removes: the back end's (the session sets it from the simulation's ring and
   // fragment; zero for back ends that do not say).

@@ -10,7 +10,7 @@
 namespace robossis::teleop {
 
 namespace {
-// [assumed] rsr.yaml is a few kB; a larger file is not the model config.
+// [assumed] rsr.yaml and actuation.yaml are a few kB; a larger file is not the robot's config.
 constexpr std::uintmax_t kMaxModelConfigBytes = std::uintmax_t{1} << 20;
 
 std::string Number(double v) {
@@ -20,12 +20,13 @@ std::string Number(double v) {
 }
 }  // namespace
 
-std::uint64_t ModelFingerprint(const std::filesystem::path& file) {
-  const std::string bytes = ReadBoundedFile(file, kMaxModelConfigBytes, "model config");
+std::uint64_t ModelFingerprint(std::initializer_list<std::filesystem::path> files) {
   std::uint64_t h = 14695981039346656037ull;  // FNV-1a offset basis
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 1099511628211ull;  // FNV-1a prime
+  for (const std::filesystem::path& file : files) {
+    for (const char c : ReadBoundedFile(file, kMaxModelConfigBytes, "robot config")) {
+      h ^= static_cast<unsigned char>(c);
+      h *= 1099511628211ull;  // FNV-1a prime
+    }
   }
   return h;
 }

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 
 #include "src/teleop/follower_config.h"
@@ -13,10 +14,11 @@
 
 namespace robossis::teleop {
 
-// A fingerprint of the workspace/model config the follower's exact IK checks set-points against: FNV-1a (64 bit)
-// of the bytes of `file` (rsr.yaml). Equal files give equal fingerprints on every machine. Throws std::runtime_error
-// naming the file when it cannot be read.
-std::uint64_t ModelFingerprint(const std::filesystem::path& file);
+// A fingerprint of the robot's config: the workspace/model the follower's exact IK checks set-points against
+// (rsr.yaml) and the drives whose top speeds the leader's set-points keep within (actuation.yaml). FNV-1a (64 bit)
+// of the bytes of `files` in order. Equal files give equal fingerprints on every machine. Throws
+// std::runtime_error naming the file when one cannot be read.
+std::uint64_t ModelFingerprint(std::initializer_list<std::filesystem::path> files);
 
 // The limits of `config` as the follower publishes them.
 FollowerLimits LimitsOf(const FollowerConfig& config);

@@ -46,6 +46,12 @@ void LeaderConfig::Validate() const {
       !(std::isfinite(max_angular_accel_rad_s2) && max_angular_accel_rad_s2 > 0)) {
     throw std::invalid_argument("the follower's acceleration caps must be finite and positive");
   }
+  if (!(max_joint_speed.array() > 0).all()) {
+    throw std::invalid_argument("the follower's motors' top speeds must be positive");
+  }
+  if (!(motor_speed_share >= 0.1 && motor_speed_share <= 1.0)) {
+    throw std::invalid_argument("setpoint.motor_speed_share: expected 0.1–1");
+  }
   if (!(follower_status_timeout_s > 0 && follower_status_timeout_s <= 10)) {
     throw std::invalid_argument("setpoint.follower_status_timeout_ms: expected 0 < T <= 10000 ms");
   }
@@ -67,6 +73,7 @@ LeaderConfig LeaderConfig::FromConfig(const ConfigNode& root) {
   const ConfigNode setpoint = root.Child("setpoint");
   c.boundary_bisection_steps = setpoint.Integer("boundary_bisection_steps");
   c.follower_status_timeout_s = 1e-3 * setpoint.PositiveNumber("follower_status_timeout_ms");
+  c.motor_speed_share = setpoint.NumberInRange("motor_speed_share", 0.1, 1.0);
   c.guard.Validate();
   const int capacity = root.Child("recorder").Integer("queue_capacity");
   if (capacity < 16) root.Fail("recorder.queue_capacity", "expected an integer >= 16");

@@ -160,7 +160,9 @@ bool LeaderUnit::StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) 
 
 Eigen::Isometry3d LeaderUnit::WithinFollowerCaps(const Eigen::Isometry3d& target) noexcept {
   const double T = setpoint_period_s_;
-  Vector6d twist = NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, target), follower_limits_, T);
+  const Matrix6d motor_rows = MotorRows(model_, X_sent_, config_.motor_speed_share * config_.max_joint_speed);
+  Vector6d twist =
+      NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, target), follower_limits_, T, motor_rows);
   Eigen::Isometry3d X = OnTheWire(robot::ApplyTwistStep(X_sent_, twist * T));
   if (!StopsInside(X, twist)) {
     // From there the set-point could not stop before a limit: brake instead, on along the last set-point's own
@@ -174,7 +176,8 @@ Eigen::Isometry3d LeaderUnit::WithinFollowerCaps(const Eigen::Isometry3d& target
   if (!FeasibleOnTheWire(X)) {
     X = FeasibleToward(guard_.Step(X_sent_, X).X_FM, stopped);
     // The guard's slide turns the motion: within the acceleration caps where that turn is still feasible.
-    const Vector6d slid = NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, X), follower_limits_, T);
+    const Vector6d slid =
+        NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, X), follower_limits_, T, motor_rows);
     const Eigen::Isometry3d X_slid = OnTheWire(robot::ApplyTwistStep(X_sent_, slid * T));
     if (FeasibleOnTheWire(X_slid)) X = X_slid;
   }

@@ -89,7 +89,7 @@ struct FollowerLimits {
   double max_linear_accel_m_s2 = 0;
   double max_angular_accel_rad_s2 = 0;
   double max_age_s = 0;                     // a set-point older than this at use is stale
-  std::uint64_t model_fingerprint = 0;      // of the workspace/model config (rsr.yaml) its IK checks against
+  std::uint64_t model_fingerprint = 0;      // of the robot's config (rsr.yaml, actuation.yaml): ModelFingerprint
 };
 
 // Where a status's external wrench comes from.

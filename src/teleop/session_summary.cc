@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "robot/actuation/actuator.h"
 #include "src/core/units.h"
 
 namespace robossis::teleop {
@@ -184,6 +185,7 @@ void SessionSummary::AddFollower(const FollowerTickRecord& r) {
   if (follower_last_s_ >= 0) ++follower_periods_us_[std::llround((r.time_s - follower_last_s_) * 1e6)];
   follower_last_s_ = r.time_s;
   if (!r.meas_feasible) ++limit_violations_;
+  if (r.actuation_status == static_cast<std::uint8_t>(actuation::ActuationStatus::kRateLimit)) ++rate_limited_ticks_;
   if (r.took_setpoint && r.setpoint_verdict != SetPointVerdict::kAccepted) {
     const auto v = static_cast<std::size_t>(r.setpoint_verdict);
     if (v < rejected_by_verdict_.size()) ++rejected_by_verdict_[v];
@@ -275,6 +277,10 @@ nlohmann::ordered_json SessionSummary::Summary() const {
   j["max_torque_nm"] = max_torque_nm_;
   j["nonfinite_outputs"] = nonfinite_;
   j["follower_limit_violations"] = limit_violations_;
+  // The share of the follower's ticks in which a motor's top step rate shortened the step (the robot fell behind
+  // its set-points there): near 0 while the set-points keep within the motors' speeds.
+  j["follower_rate_limited_pct"] =
+      follower_ticks_ > 0 ? 100.0 * static_cast<double>(rate_limited_ticks_) / static_cast<double>(follower_ticks_) : 0.0;
   j["max_follower_speed_mm_s"] = MToMm(max_speed_m_s_);
   j["max_follower_angular_speed_deg_s"] = RadToDeg(max_angular_speed_rad_s_);
   // null unless the estimate is ok (the status says why: cap_binds, too_few_samples, ...), never a 0 that reads as

@@ -123,6 +123,7 @@ class SessionSummary {
   double follower_last_s_ = -1;
   std::map<std::int64_t, std::uint64_t> follower_periods_us_;
   std::uint64_t limit_violations_ = 0;
+  std::uint64_t rate_limited_ticks_ = 0;  // ticks a motor's top step rate shortened (actuation::kRateLimit)
   std::array<std::uint64_t, kNumSetPointVerdicts> rejected_by_verdict_{};  // the set-points the follower refused
   double min_margin_ = 1e9;
   std::vector<std::pair<double, Eigen::Isometry3d>> window_;  // the last 100 measurements (10 ms at 10 kHz): time, pose

@@ -86,8 +86,10 @@ TeleopSetup TeleopSetup::Load(const std::filesystem::path& data_dir, const robot
   s.leader.guard = s.follower.guard;  // one guard tuning for both units (follower.yaml)
   s.leader.max_linear_accel_m_s2 = s.follower.setpoint.max_linear_accel_m_s2;  // the follower's caps (follower.yaml)
   s.leader.max_angular_accel_rad_s2 = s.follower.setpoint.max_angular_accel_rad_s2;
+  const auto motor_speeds = s.actuation.MaxJointSpeeds();  // the motors' top speeds (actuation.yaml)
+  for (int i = 0; i < actuation::kNumMotors; ++i) s.leader.max_joint_speed[i] = motor_speeds[i];
   s.follower.setpoint.setpoint_period_s = 1.0 / s.transfer.rates.transfer_rate_hz;  // one set-point per transfer tick
-  s.follower.model_fingerprint = ModelFingerprint(config / "rsr.yaml");
+  s.follower.model_fingerprint = ModelFingerprint({config / "rsr.yaml", config / "actuation.yaml"});
   s.sim = sim::LoadSimConfig(config / "sim.yaml", data_dir);
   s.config_dir = config;
   return s;

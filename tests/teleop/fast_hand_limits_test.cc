@@ -8,6 +8,7 @@
 // cap is a limit on the robot's measured speed, within 1 %.
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -68,6 +69,8 @@ TEST(FastHandBelowTheCap, TheDelayIsAFigureWithinTheGoalAndTheReplayGivesIt) {
   setup.transfer.caps.max_linear_speed_m_s = MmToM(300);
   setup.transfer.caps.max_angular_speed_rad_s = DegToRad(60);
   setup.follower.setpoint.caps = setup.transfer.caps;
+  // The transfer's own delay: the motors' top speeds (20 mm/s of stroke) would bind long before these caps.
+  setup.leader.max_joint_speed.setConstant(std::numeric_limits<double>::infinity());
   TeleopRequest r;
   r.device = "replay:" + FastHand().string();
   r.method = "proxy-safe";
@@ -87,6 +90,41 @@ TEST(FastHandBelowTheCap, TheDelayIsAFigureWithinTheGoalAndTheReplayGivesIt) {
   EXPECT_GT(s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0.5);
   // The replay reads the caps from the log's header: the same figure.
   EXPECT_EQ(replayed.summary["hand_to_setpoint_delay_ms"], s["hand_to_setpoint_delay_ms"]);
+}
+
+// At `--max-speed-mm-s 100` the fast hand asks for moves the linear motors (20 mm/s of stroke) cannot make. The
+// leader keeps its set-points within the motors' top speeds, so that the follower seldom has to shorten a step
+// and fall behind what it was sent; without that bound it does so in a large share of its ticks.
+TEST(FastHandAtRaisedCaps, TheSetPointsKeepWithinTheMotorsTopSpeeds) {
+  const auto run = [](bool bound) {
+    TeleopSetup setup = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7());
+    setup.transfer.caps.max_linear_speed_m_s = MmToM(100);
+    setup.follower.setpoint.caps = setup.transfer.caps;
+    if (!bound) setup.leader.max_joint_speed.setConstant(std::numeric_limits<double>::infinity());
+    TeleopRequest r;
+    r.device = "replay:" + FastHand().string();
+    r.method = "proxy-safe";
+    r.follower = "recorder";
+    r.duration_s = 10;
+    const auto log = std::filesystem::temp_directory_path() /
+                     (std::string("robossis_motor_speeds_") + (bound ? "bound" : "free") + ".rlog");
+    const TeleopOutputs out = RunTeleop(r, setup, log);
+    std::filesystem::remove(log);
+    return out.summary;
+  };
+  const auto bound = run(true);
+  const auto free = run(false);
+  const double bound_pct = bound["follower_rate_limited_pct"].get<double>();
+  const double free_pct = free["follower_rate_limited_pct"].get<double>();
+  RecordProperty("follower_rate_limited_pct_bound", std::to_string(bound_pct));
+  RecordProperty("follower_rate_limited_pct_free", std::to_string(free_pct));
+  EXPECT_GT(free_pct, 5.0);
+  EXPECT_LT(bound_pct, 0.2 * free_pct);
+  for (const auto* s : {&bound, &free}) {
+    EXPECT_TRUE((*s)["complete"].get<bool>());
+    EXPECT_EQ((*s)["setpoints_rejected"], 0);  // within the acceleration caps the follower judges them by
+    EXPECT_EQ((*s)["follower_limit_violations"], 0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Caps, FastHandAtShippedCaps,

@@ -1,11 +1,13 @@
 // The follower publishes the limits it validates set-points against with every status, and a leader whose own copy
 // differs (on two machines each reads its own data folder) refuses to start, naming both values.
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "robot/actuation/pulse_recorder_follower.h"
+#include "src/core/files.h"
 #include "src/teleop/follower_limits.h"
 #include "src/teleop/follower_unit.h"
 #include "src/teleop/in_process_link.h"
@@ -24,7 +26,8 @@ class FollowerLimitsTest : public ::testing::Test, protected ShippedFollowerSetu
 
   FollowerConfig Published() const {
     FollowerConfig c = ShippedFollowerConfig();
-    c.model_fingerprint = ModelFingerprint(DefaultDataDir() / "config" / "rsr.yaml");
+    const std::filesystem::path config = DefaultDataDir() / "config";
+    c.model_fingerprint = ModelFingerprint({config / "rsr.yaml", config / "actuation.yaml"});
     return c;
   }
   // The leader's check against the status the follower published at its first tick; the error ("" if it starts).
@@ -58,6 +61,23 @@ TEST_F(FollowerLimitsTest, AnotherModelConfigIsRefused) {
   FollowerConfig leader = Published();
   ++leader.model_fingerprint;
   EXPECT_NE(Check(leader).find("model config fingerprint"), std::string::npos);
+}
+
+// The leader keeps its set-points within the motors' top speeds from its own actuation.yaml: a leader whose drives
+// differ (here one step rate) has another fingerprint, and is refused.
+TEST_F(FollowerLimitsTest, AnotherActuationConfigIsAnotherFingerprint) {
+  const std::filesystem::path config = DefaultDataDir() / "config";
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "fingerprint_actuation";
+  std::filesystem::create_directories(dir);
+  std::string text = ReadTextFile(config / "actuation.yaml");
+  const std::size_t at = text.find("max_step_rate_hz: 4000");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, std::string("max_step_rate_hz: 4000").size(), "max_step_rate_hz: 3000");
+  WriteFileAtomically(dir / "actuation.yaml", text);
+  const std::uint64_t shipped = ModelFingerprint({config / "rsr.yaml", config / "actuation.yaml"});
+  EXPECT_NE(ModelFingerprint({config / "rsr.yaml", dir / "actuation.yaml"}), shipped);
+  EXPECT_EQ(ModelFingerprint({config / "rsr.yaml", config / "actuation.yaml"}), shipped);  // equal files, equal
+  std::filesystem::remove_all(dir);
 }
 
 TEST_F(FollowerLimitsTest, NoFollowerHeardIsRefused) {
