@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -38,6 +39,7 @@
 #include "robot/sim/simulated_plant.h"
 #include "src/core/config.h"
 #include "src/core/rt/periodic_loop.h"
+#include "src/teleop/capped_motion.h"
 #include "src/teleop/delay_estimate.h"
 #include "src/teleop/feedback_passivity.h"
 #include "src/teleop/follower_passivity.h"
@@ -329,6 +331,25 @@ void BM_FollowerWrenchEstimate(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(teleop::EstimateExternalWrench(model, X, effort, config));
 }
 BENCHMARK(BM_FollowerWrenchEstimate)->Unit(benchmark::kMicrosecond);
+
+// The leader's next set-point twist within the follower's caps (arg 0) and within the motors' top speeds as well
+// (arg 1: the Jacobian of eq. 15 at the last set-point, what the leader adds per set-point since it keeps within
+// them), from rest toward a step 30 mm away along z, where the linear motors bind.
+void BM_SetPointTwistWithinMotorSpeeds(benchmark::State& state) {
+  const TeleopSetup& setup = Setup();
+  SetPointLimits limits = setup.follower.setpoint;
+  limits.caps.max_linear_speed_m_s = 0.1;
+  const Eigen::Isometry3d X = setup.rsr->geometry().X_FM_home;
+  robot::RsrJointVector speeds = setup.leader.motor_speed_share * setup.leader.max_joint_speed;
+  if (state.range(0) == 0) speeds.setConstant(std::numeric_limits<double>::infinity());
+  Vector6d remaining = Vector6d::Zero(), twist = Vector6d::Zero();
+  remaining[2] = 0.03;
+  for (auto _ : state) {
+    const Matrix6d rows = MotorRows(*setup.rsr, X, speeds);
+    benchmark::DoNotOptimize(NextCappedTwist(twist, remaining, limits, 1e-3, rows));
+  }
+}
+BENCHMARK(BM_SetPointTwistWithinMotorSpeeds)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // A back end that measures at the Bullet plant's 1 kHz while the follower ticks at 10 kHz (the pulse recorder's
 // state, held for 1 ms, with a constant load on the drives): what the follower's wrench estimate sees in

@@ -2,6 +2,8 @@
 // even when a fast hand goes far outside the workspace, device failures (zero force, a latched fault, a hold
 // request), the end of a replay (a hold), and no allocation per tick.
 
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "haptics/device/device_factory.h"
@@ -9,6 +11,7 @@
 #include "robot/rsr_kinematics.h"
 #include "src/core/rt/periodic_loop.h"
 #include "src/teleop/leader_unit.h"
+#include "src/teleop/teleop_session.h"
 #include "tests/support/alloc_counter.h"
 #include "tests/teleop/teleop_fixture.h"
 
@@ -19,8 +22,8 @@ using namespace testing;
 
 struct Harness {
   Harness(const std::string& device_spec, const std::string& method, transfer::TransferConfig transfer = Transfer(),
-          std::size_t keep = 40000)
-      : config(Leader()),
+          std::size_t keep = 40000, LeaderConfig leader = Leader())
+      : config(std::move(leader)),
         device(haptics::MakeDevice(device_spec, Sigma7(), Haptics(), config.device, config.sim_script)),
         renderer(Renderer(method, config.rate_hz)),
         link(keep),
@@ -171,8 +174,11 @@ TEST(LeaderUnitTest, EndOfReplayHoldsWithoutPresence) {
 }
 
 TEST(LeaderUnitTest, TickDoesNotAllocate) {
+  // As the runtime configures it (TeleopSetup::Load): the set-points within the motors' top speeds too.
+  const LeaderConfig runtime = TeleopSetup::Load(DefaultDataDir(), Rsr(), Sigma7()).leader;
+  ASSERT_TRUE(runtime.max_joint_speed.allFinite());
   for (const std::string& method : haptics::KnownMethods()) {
-    Harness h("replay:" + FastHand().string(), method, FastCaps(), 0);
+    Harness h("replay:" + FastHand().string(), method, FastCaps(), 0, runtime);
     rt::SimulatedClock& clock = h.clock;
     for (int k = 0; k < 200; ++k) {  // warm up
       clock.AdvanceNs(1'000'000);
