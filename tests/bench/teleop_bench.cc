@@ -49,6 +49,7 @@
 #include "src/teleop/in_process_link.h"
 #include "src/teleop/leader_unit.h"
 #include "src/teleop/teleop_session.h"
+#include "tests/support/forwarding_follower.h"
 
 namespace {
 
@@ -354,16 +355,10 @@ BENCHMARK(BM_SetPointTwistWithinMotorSpeeds)->Arg(0)->Arg(1)->Unit(benchmark::kM
 // A back end that measures at the Bullet plant's 1 kHz while the follower ticks at 10 kHz (the pulse recorder's
 // state, held for 1 ms, with a constant load on the drives): what the follower's wrench estimate sees in
 // `robossis teleop --follower sim`.
-class MeasuredAtOneKilohertz final : public robot::Follower {
+class MeasuredAtOneKilohertz final : public ::robossis::testing::ForwardingFollower {
  public:
   MeasuredAtOneKilohertz(robot::Follower& inner, const robot::RsrJointVector& effort)
-      : inner_(inner), effort_(effort) {}
-  bool Enable() noexcept override { return inner_.Enable(); }
-  void Disable() noexcept override { inner_.Disable(); }
-  bool Home() noexcept override { return inner_.Home(); }
-  bool MeasuresJoints() const noexcept override { return inner_.MeasuresJoints(); }
-  bool ResetFault() noexcept override { return inner_.ResetFault(); }
-  void Command(const robot::RsrJointCommand& command) noexcept override { inner_.Command(command); }
+      : ForwardingFollower(inner), effort_(effort) {}
   void Service(double now_s) noexcept override {
     inner_.Service(now_s);
     if (measured_ && now_s < state_.time_s + 1e-3 - 1e-9) return;
@@ -375,7 +370,6 @@ class MeasuredAtOneKilohertz final : public robot::Follower {
   robot::RsrFollowerState State() const noexcept override { return measured_ ? state_ : inner_.State(); }
 
  private:
-  robot::Follower& inner_;
   robot::RsrJointVector effort_;
   robot::RsrFollowerState state_;
   bool measured_ = false;

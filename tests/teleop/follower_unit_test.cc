@@ -11,6 +11,7 @@
 #include "src/teleop/in_process_link.h"
 #include "tests/teleop/follower_fixture.h"
 #include "tests/support/alloc_counter.h"
+#include "tests/support/forwarding_follower.h"
 
 namespace robossis::teleop {
 namespace {
@@ -465,20 +466,14 @@ TEST_F(FollowerUnitTest, RecordsTheStampOfTheSetPointItUsedAndWhenItCommanded) {
 
 // A back end that knows the true external wrench, as a simulation does: the pulse recorder's measurement with a
 // wrench of its own for each Service() (the n-th: TrueWrench(n)).
-class KnownLoadFollower final : public robot::Follower {
+class KnownLoadFollower final : public ::robossis::testing::ForwardingFollower {
  public:
-  explicit KnownLoadFollower(robot::Follower& inner) : inner_(inner) {}
+  using ForwardingFollower::ForwardingFollower;
   static Vector6d TrueWrench(std::uint64_t n) {
     Vector6d W;
     W << 0.5 * static_cast<double>(n), -120, 300, 2, -7, 0.25 * static_cast<double>(n);
     return W;
   }
-  bool Enable() noexcept override { return inner_.Enable(); }
-  void Disable() noexcept override { inner_.Disable(); }
-  bool Home() noexcept override { return inner_.Home(); }
-  bool MeasuresJoints() const noexcept override { return inner_.MeasuresJoints(); }
-  bool ResetFault() noexcept override { return inner_.ResetFault(); }
-  void Command(const robot::RsrJointCommand& command) noexcept override { inner_.Command(command); }
   void Service(double now_s) noexcept override {
     inner_.Service(now_s);
     ++services_;
@@ -491,7 +486,6 @@ class KnownLoadFollower final : public robot::Follower {
   }
 
  private:
-  robot::Follower& inner_;
   std::uint64_t services_ = 0;
 };
 
