@@ -54,9 +54,9 @@ struct LeaderConfig {
   double max_linear_accel_m_s2 = 5.0;
   double max_angular_accel_rad_s2 = 10.0;
   // The follower's motors' top speeds (rad/s rotary, m/s linear, eq. 13 order; actuation.yaml's step rates over
-  // their resolutions, copied by TeleopSetup::Load). The set-points move no faster than the motors can follow, so
-  // that the hand, not the robot, is where a move too fast for the motors shows: the follower need not shorten its
-  // steps and fall behind what it was sent. Infinite: no bound.
+  // their resolutions, copied by TeleopSetup::Load). The set-points move no faster than the motors can follow: a
+  // hand too fast for the motors is slowed at the leader, as the speed caps slow it, and the follower need not
+  // shorten its steps and fall behind what it was sent. Infinite: no bound.
   robot::RsrJointVector max_joint_speed = robot::RsrJointVector::Constant(std::numeric_limits<double>::infinity());
   double motor_speed_share = 0.9;  // of max_joint_speed the set-points keep within ([assumed], leader.yaml)
   // A follower status older than this means the link or the follower is gone: the leader stops rendering the
