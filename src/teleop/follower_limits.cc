@@ -60,9 +60,9 @@ std::string CompareLimits(const FollowerLimits& leader, const FollowerLimits& fo
     }
   }
   if (leader.model_fingerprint != follower.model_fingerprint) {
-    return "model config fingerprint: the follower's rsr.yaml is " + std::to_string(follower.model_fingerprint) +
-           ", this leader's is " + std::to_string(leader.model_fingerprint) +
-           " (rsr.yaml must be the same on both machines)";
+    return "model config fingerprint: the follower's rsr.yaml and actuation.yaml give " +
+           std::to_string(follower.model_fingerprint) + ", this leader's give " +
+           std::to_string(leader.model_fingerprint) + " (both files must be the same on both machines)";
   }
   return "";
 }

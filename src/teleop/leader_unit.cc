@@ -75,6 +75,7 @@ LeaderUnit::LeaderUnit(const LeaderConfig& config, const transfer::TransferConfi
   follower_limits_.caps = transfer.caps;
   follower_limits_.max_linear_accel_m_s2 = config.max_linear_accel_m_s2;
   follower_limits_.max_angular_accel_rad_s2 = config.max_angular_accel_rad_s2;
+  motor_speeds_ = config.motor_speed_share * config.max_joint_speed;
   if (transfer_every_ < 1 ||
       std::abs(transfer_every_ * transfer.rates.transfer_rate_hz - config.rate_hz) > 1e-6 * config.rate_hz) {
     throw std::invalid_argument("leader: rate_hz " + std::to_string(config.rate_hz) +
@@ -160,7 +161,7 @@ bool LeaderUnit::StopsInside(const Eigen::Isometry3d& X, const Vector6d& twist) 
 
 Eigen::Isometry3d LeaderUnit::WithinFollowerCaps(const Eigen::Isometry3d& target) noexcept {
   const double T = setpoint_period_s_;
-  const Matrix6d motor_rows = MotorRows(model_, X_sent_, config_.motor_speed_share * config_.max_joint_speed);
+  const Matrix6d motor_rows = MotorRows(model_, X_sent_, motor_speeds_);
   Vector6d twist =
       NextCappedTwist(twist_sent_, robot::TwistStepBetween(X_sent_, target), follower_limits_, T, motor_rows);
   Eigen::Isometry3d X = OnTheWire(robot::ApplyTwistStep(X_sent_, twist * T));

@@ -196,6 +196,7 @@ class LeaderUnit final : public rt::PeriodicTask {
   int transfer_every_;
   double setpoint_period_s_;  // one transfer period: the interval between two set-points
   SetPointLimits follower_limits_;  // the transfer's speed caps, the follower's acceleration caps
+  robot::RsrJointVector motor_speeds_;  // the share of the motors' top speeds the set-points keep within
   int actuation_ratio_;
   std::uint64_t session_id_;
 
