@@ -61,6 +61,12 @@ const char* ToString(DelayStatus status) {
   return "unknown";
 }
 
+std::uint8_t HeldBack(const Eigen::Isometry3d& X_transfer, const Eigen::Isometry3d& X_sent) {
+  const bool linear = (X_sent.translation() - X_transfer.translation()).norm() > kHeldBackLinear_m;
+  const bool angular = RotationAngleBetween(X_transfer.linear(), X_sent.linear()) > kHeldBackAngular_rad;
+  return static_cast<std::uint8_t>((linear ? kCappedLinear : 0) | (angular ? kCappedAngular : 0));
+}
+
 std::vector<int> RebaseSegments(std::span<const Vector6d> ideal, std::span<const Vector6d> setpoint) {
   std::vector<int> segment(ideal.size(), 0);
   int id = 0;

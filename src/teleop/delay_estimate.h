@@ -58,10 +58,21 @@ struct DelaySearch {
   double max_angular_speed_rad_s = std::numeric_limits<double>::infinity();
 };
 
-// Bits of DelaySeries::capped: the cap of that part bound at the sample (eq. 11 scaled it below 1). The linear and
-// angular caps are separate (eq. 11 scales each part on its own), so only the compared part's bit counts.
+// Bits of DelaySeries::capped: a cap held that part back at the sample (eq. 11 scaled it below 1, or HeldBack). The
+// linear and angular caps are separate (eq. 11 scales each part on its own), so only the compared part's bit counts.
 inline constexpr std::uint8_t kCappedLinear = 1;
 inline constexpr std::uint8_t kCappedAngular = 2;
+
+// [assumed] A set-point sent farther than this from the transfer's set-point was held back by the leader's own bounds
+// (its acceleration caps, the motors' top speeds, a wall): there the bound, not the transfer's filters, decides where
+// it is, and the transfer's lag is not the hand's lag to the robot. While it follows, the set-point sent trails the
+// transfer's by microns (median 6 um and 0.006 deg on a recorded hand); held back, by up to tens of millimetres.
+inline constexpr double kHeldBackLinear_m = 1e-4;
+inline constexpr double kHeldBackAngular_rad = 1.745e-4;  // 0.01 deg
+
+// The capped bits (below) of a set-point sent at X_sent while the transfer asked for X_transfer: each part held back
+// by more than its tolerance.
+std::uint8_t HeldBack(const Eigen::Isometry3d& X_transfer, const Eigen::Isometry3d& X_sent);
 
 // One series: displacements [p; theta] at increasing times, with optional per-sample segment ids (velocities are
 // never taken across a change) and `capped` bits (kCappedLinear, kCappedAngular).

@@ -130,7 +130,8 @@ void SessionSummary::AddLeader(const LeaderTickRecord& r) {
     ideal_.push_back(Eigen::Map<const Vector6d>(r.ideal_disp.data()));
     transfer_.push_back(Eigen::Map<const Vector6d>(r.transfer_disp.data()));
     capped_.push_back(static_cast<std::uint8_t>((r.scale_linear < 1 ? kCappedLinear : 0) |
-                                                (r.scale_angular < 1 ? kCappedAngular : 0)));
+                                                (r.scale_angular < 1 ? kCappedAngular : 0) |
+                                                HeldBack(Pose(r.p_goal, r.q_goal), Pose(r.p_sent, r.q_sent))));
   }
   if (r.leader_state != leader_state_) {
     leader_transitions_.push_back({{"t_s", 1e-9 * static_cast<double>(r.t_ns)},
@@ -254,7 +255,10 @@ double SessionSummary::DriftFrom(const Eigen::Vector3d& p) const {
 //   speed is then held at the cap and the set-point's is the clipped one, which no single lag aligns with the
 //   hand. Those ticks are not judged, nor a set-point at its cap (SummaryOptions' caps) or within kCapSettle_s after
 //   the cap bound (still catching up): the lag is measured where the reference speed is below the cap, where the
-//   set-point can follow it.
+//   set-point can follow it;
+// - the leader's bounds: where the set-point sent was held back from the transfer's (HeldBack: a wall, the
+//   acceleration caps, the motors' top speeds), the robot is not sent the transfer's set-point, so those ticks
+//   count as capped too. Where it is judged, the transfer's lag is therefore the hand's lag to the set-point sent.
 DelayEstimate SessionSummary::HandToSetPointDelay() const {
   const std::vector<int> segment = RebaseSegments(ideal_, transfer_);
   DelaySearch search;

@@ -177,5 +177,22 @@ TEST(DelayEstimate, StatusCases) {
   EXPECT_STREQ(ToString(DelayStatus::kCapBinds), "cap_binds");
 }
 
+// A set-point sent short of the transfer's by more than the tolerance of a part marks that part as held back; a
+// gap within it (the microns a following set-point trails by) marks nothing.
+TEST(DelayEstimate, HeldBackMarksEachPartBeyondItsTolerance) {
+  const Eigen::Isometry3d X = PoseFromMmDeg((Vector6d() << 10, -5, 284, 1, 2, 3).finished());
+  const auto moved = [&](double dx_m, double angle_rad) {
+    Eigen::Isometry3d Y = X;
+    Y.translation().x() += dx_m;
+    Y.linear() = Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * X.linear();
+    return Y;
+  };
+  EXPECT_EQ(HeldBack(X, X), 0);
+  EXPECT_EQ(HeldBack(X, moved(0.5 * kHeldBackLinear_m, 0.5 * kHeldBackAngular_rad)), 0);
+  EXPECT_EQ(HeldBack(X, moved(2 * kHeldBackLinear_m, 0)), kCappedLinear);
+  EXPECT_EQ(HeldBack(X, moved(0, 2 * kHeldBackAngular_rad)), kCappedAngular);
+  EXPECT_EQ(HeldBack(X, moved(-0.02, 0.1)), kCappedLinear | kCappedAngular);
+}
+
 }  // namespace
 }  // namespace robossis::teleop

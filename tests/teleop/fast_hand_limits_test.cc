@@ -87,7 +87,10 @@ TEST(FastHandBelowTheCap, TheDelayIsAFigureWithinTheGoalAndTheReplayGivesIt) {
   EXPECT_GT(s["hand_to_setpoint_delay_ms"].get<double>(), 10.0);
   EXPECT_LE(s["hand_to_setpoint_delay_ms"].get<double>(), 50.0);
   EXPECT_GT(s["hand_to_setpoint_delay_correlation"].get<double>(), 0.9);
-  EXPECT_GT(s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0.5);
+  // The hand leaves the workspace on every axis: the walls stop the set-point short of the transfer's for most of
+  // the run, and those ticks are not judged (HeldBack).
+  EXPECT_GT(s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0.25);
+  EXPECT_LT(s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0.5);
   // The replay reads the caps from the log's header: the same figure.
   EXPECT_EQ(replayed.summary["hand_to_setpoint_delay_ms"], s["hand_to_setpoint_delay_ms"]);
 }

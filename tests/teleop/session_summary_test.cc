@@ -143,9 +143,10 @@ TEST(SessionSummaryTest, AHugeValueStaysOneShortCell) {
 
 // The summary's hand-to-set-point delay: leader records at 1 kHz whose set-point displacement is the ideal one
 // delayed by 40 ms, with a Rebase (both displacements held at zero, as while the robot does not follow) in the
-// middle. The delay is found; where eq. 11 capped the hand (scale < 1) on most ticks, the figure is null and the
+// middle. The delay is found; where eq. 11 capped the hand (scale < 1) on most ticks, or the leader held the
+// set-point sent back from the transfer's on most ticks (a wall, the motors' speeds), the figure is null and the
 // status says why; with no set-points at all, too few samples.
-LeaderTickRecord DelayRecord(int k, double delay_s, bool rebased, double scale) {
+LeaderTickRecord DelayRecord(int k, double delay_s, bool rebased, double scale, bool held_back = false) {
   auto motion = [](double t) {
     return t <= 0 ? 0.0 : 0.004 * (1 - std::cos(2.1 * t)) + 0.0015 * (1 - std::cos(5.3 * t)) + 0.001 * t * t;
   };
@@ -153,6 +154,8 @@ LeaderTickRecord DelayRecord(int k, double delay_s, bool rebased, double scale) 
   r.t_ns = 1'000'000LL * k;
   r.sent_this_tick = 1;
   r.scale_linear = scale;
+  // The transfer asks for a pose 1 mm from the one sent (the poses are otherwise irrelevant here).
+  if (held_back) r.p_goal[0] = 1e-3;
   const double t = 1e-3 * k;
   // After the rebase at 3 s (held until 3.2 s) both restart from zero.
   const double t0 = t >= 3.2 ? 3.2 : 0.0;
@@ -167,10 +170,14 @@ TEST(SessionSummaryTest, TheHandToSetPointDelayRespectsResetsAndTheCap) {
   constexpr double kDelay = 0.040;
   SessionSummary ok(SummaryOptions{});
   SessionSummary capped(SummaryOptions{});
+  SessionSummary held(SummaryOptions{});
+  SessionSummary held_rarely(SummaryOptions{});
   for (int k = 0; k <= 6000; ++k) {
     const bool rebased = k >= 3000 && k < 3200;
     ok.AddLeader(DelayRecord(k, kDelay, rebased, 1.0));
     capped.AddLeader(DelayRecord(k, kDelay, rebased, k % 10 == 0 ? 1.0 : 0.5));  // capped 90 % of the time
+    held.AddLeader(DelayRecord(k, kDelay, rebased, 1.0, k % 10 != 0));           // held back 90 % of the time
+    held_rarely.AddLeader(DelayRecord(k, kDelay, rebased, 1.0, k >= 5500));      // the last 0.5 s only
   }
   const auto s = ok.Summary();
   ASSERT_EQ(s.at("hand_to_setpoint_delay_status"), "ok");
@@ -181,6 +188,15 @@ TEST(SessionSummaryTest, TheHandToSetPointDelayRespectsResetsAndTheCap) {
   const auto c = capped.Summary();
   EXPECT_TRUE(c.at("hand_to_setpoint_delay_ms").is_null());
   EXPECT_EQ(c.at("hand_to_setpoint_delay_status"), "cap_binds");
+
+  const auto h = held.Summary();
+  EXPECT_TRUE(h.at("hand_to_setpoint_delay_ms").is_null());
+  EXPECT_EQ(h.at("hand_to_setpoint_delay_status"), "cap_binds");
+  const auto hr = held_rarely.Summary();
+  ASSERT_EQ(hr.at("hand_to_setpoint_delay_status"), "ok");
+  EXPECT_NEAR(hr.at("hand_to_setpoint_delay_ms").get<double>(), 1e3 * kDelay, 1.0);
+  EXPECT_LT(hr.at("hand_to_setpoint_delay_judged_fraction").get<double>(),
+            s.at("hand_to_setpoint_delay_judged_fraction").get<double>() - 0.05);  // the held ticks are not judged
 
   const auto none = SessionSummary(SummaryOptions{}).Summary();
   EXPECT_TRUE(none.at("hand_to_setpoint_delay_ms").is_null());
