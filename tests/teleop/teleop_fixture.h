@@ -36,6 +36,7 @@ inline const haptics::HapticsConfig& Haptics() {
 inline LeaderConfig Leader() { return LeaderConfig::FromYaml(ConfigPath("leader.yaml")); }
 inline transfer::TransferConfig Transfer() { return transfer::TransferConfig::FromYaml(ConfigPath("transfer.yaml")); }
 inline std::filesystem::path FastHand() { return DefaultDataDir() / "teleop" / "fast_hand.csv"; }
+inline std::filesystem::path RecordedHand() { return DefaultDataDir() / "teleop" / "recorded_hand.csv"; }
 
 inline std::shared_ptr<const geometry::BoundaryAtlas> CoarseAtlas() {
   static const robossis::testing::ScratchDir dir("robossis_teleop_test_atlas");  // outlives the atlas below
