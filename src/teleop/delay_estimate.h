@@ -70,7 +70,7 @@ inline constexpr std::uint8_t kCappedAngular = 2;
 inline constexpr double kHeldBackLinear_m = 1e-4;
 inline constexpr double kHeldBackAngular_rad = 1.745e-4;  // 0.01 deg
 
-// The capped bits (below) of a set-point sent at X_sent while the transfer asked for X_transfer: each part held back
+// The capped bits of a set-point sent at X_sent while the transfer asked for X_transfer: each part held back
 // by more than its tolerance.
 std::uint8_t HeldBack(const Eigen::Isometry3d& X_transfer, const Eigen::Isometry3d& X_sent);
 
