@@ -77,8 +77,9 @@ void WriteBilateralPart(DemoContext& demo) {
 // the follower), so that nothing but the motion transfer's filters stands between the hand and the set-point.
 void WriteRecordedHandPart(DemoContext& demo) {
   demo.Progress("teleop: a recorded human hand at the shipped caps (the hand-to-set-point delay)");
-  const teleop::TeleopSetup setup =
-      teleop::TeleopSetup::Load(demo.app.data_dir, demo.app.LoadRsr(), demo.app.LoadSigma7());
+  const robot::RsrModel rsr = demo.app.LoadRsr();  // the setup refers to both: they outlive the run
+  const robot::Sigma7Model sigma7 = demo.app.LoadSigma7();
+  const teleop::TeleopSetup setup = teleop::TeleopSetup::Load(demo.app.data_dir, rsr, sigma7);
   teleop::TeleopRequest request;
   request.device = "replay:" + (demo.app.data_dir / "teleop" / "recorded_hand.csv").string();
   request.method = "proxy-safe";

@@ -47,6 +47,10 @@ struct TeleopSetup {
   // Loads every config from data_dir/config (throws std::runtime_error naming the file and key).
   static TeleopSetup Load(const std::filesystem::path& data_dir, const robot::RsrModel& rsr,
                           const robot::Sigma7Model& sigma7);
+  // The setup refers to both models, so they must outlive it: temporaries are refused at compile time.
+  static TeleopSetup Load(const std::filesystem::path&, robot::RsrModel&&, const robot::Sigma7Model&) = delete;
+  static TeleopSetup Load(const std::filesystem::path&, const robot::RsrModel&, robot::Sigma7Model&&) = delete;
+  static TeleopSetup Load(const std::filesystem::path&, robot::RsrModel&&, robot::Sigma7Model&&) = delete;
 };
 
 struct TeleopRequest {
