@@ -39,6 +39,11 @@ int Run(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// halrun -I reads its standard input only once the file is done: a signal made from there marks the end of the
+// file (its `start` included; a thread exists from its `loadrt threads` line on, long before the file's signals on a
+// loaded machine). Removed again once seen, so the session holds only what the file made.
+constexpr const char* kReadySignal = "robossis-hal-session-ready";
+
 }  // namespace
 
 void HalSession::PrepareEnvironment() {
@@ -120,12 +125,20 @@ HalSession::HalSession(const std::filesystem::path& hal_file) {
   close(fds[0]);
   stdin_fd_ = fds[1];
   pid_ = pid;
-  // Loaded when the threads run (the file ends with `start`).
+  const std::string ready = std::string("newsig ") + kReadySignal + " bit\n";
+  if (write(stdin_fd_, ready.data(), ready.size()) != static_cast<ssize_t>(ready.size())) {
+    Stop();
+    throw std::runtime_error("cannot write to halrun's standard input");
+  }
   for (int i = 0; i < 200; ++i) {
     std::string out;
-    if (Run("halcmd list thread", &out) == 0 && out.find("servo-thread") != std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let `start` and the first periods run
-      return;
+    if (Run("halcmd list sig", &out) == 0 && out.find(kReadySignal) != std::string::npos) {
+      Halcmd(std::string("delsig ") + kReadySignal);
+      // halcmd names a failed line "FILE:LINE: ..." and goes on to its standard input.
+      const std::string log = ReadFile(log_);
+      if (log.find(hal_file.string() + ":") == std::string::npos) return;
+      Stop();
+      throw std::runtime_error("halrun -f " + hal_file.string() + " failed: " + log);
     }
     int status;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
