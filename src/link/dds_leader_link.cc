@@ -170,6 +170,9 @@ void DdsLeaderLink::SendLoop() {
 void DdsLeaderLink::ReceiveLoop() {
   dds_attach_t triggered[4];
   teleop::FollowerStatusMessage assembled;
+  // A status is the follower's state with its measured pose: until both have arrived (the topics are independent, and
+  // the state may come first), the assembled message would report a robot at the origin.
+  bool have_state = false, have_pose = false;
   using JointState = sensor_msgs_msg_dds__JointState_;
   using PoseStamped = geometry_msgs_msg_dds__PoseStamped_;
   using OperatingState = robossis_msgs_msg_dds__OperatingState_;
@@ -183,13 +186,15 @@ void DdsLeaderLink::ReceiveLoop() {
     });
     changed |= TakeEach<OperatingState>(state_reader_, [&](const OperatingState& st) {
       FromOperatingState(st, assembled);
+      have_state = true;
       counters_.state.fetch_add(1, std::memory_order_relaxed);
     });
     changed |= TakeEach<PoseStamped>(cp_reader_, [&](const PoseStamped& cp) {
       FromMeasuredCp(cp, assembled);
+      have_pose = true;
       counters_.status.fetch_add(1, std::memory_order_relaxed);
     });
-    if (changed) status_.Publish(assembled);
+    if (changed && have_state && have_pose) status_.Publish(assembled);
   }
 }
 
