@@ -15,7 +15,7 @@ What it computes, per frame:
   vector, written as roll, pitch, yaw (R = Rz Ry Rx, degrees).
 
 MOTION_SCALE is 1:50 [assumed]: the take is a free hand reaching about, faster than a surgeon positioning a bone
-(it sweeps about 250 mm at up to 440 mm/s), and 1:50 brings it to 5 mm at up to 8.8 mm/s, below the paper's
+(it sweeps about 250 mm at up to 440 mm/s), and 1:50 brings it to 5 mm at up to 8.4 mm/s, below the paper's
 10 mm/s demonstration cap and within the motors' top speeds, so that nothing but the motion transfer's filters
 stands between the hand and the set-point. A scale changes the speeds, not the timing: the filters' delay is the
 same at any scale at which no cap binds.

@@ -20,6 +20,17 @@ namespace robossis::apps {
 
 namespace {
 
+// A summary's hand-to-set-point delay as the report prints it: the figure (or none) and, in parentheses, its status
+// and the share of the set-points judged.
+std::string DelayText(const nlohmann::ordered_json& s) {
+  const std::string figure = s["hand_to_setpoint_delay_ms"].is_number()
+                                 ? FormatNumber(s["hand_to_setpoint_delay_ms"].get<double>(), "%.3g") + " ms"
+                                 : std::string("none");
+  return figure + " (" + s["hand_to_setpoint_delay_status"].get<std::string>() + ", " +
+         FormatFixed(100 * s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0) +
+         " % of the set-points judged";
+}
+
 // The load felt at the hand: the simulated sigma.7's loop hand into the Bullet follower with the paper's muscle
 // traction (517 N, 74 N·m), simulated clock, 3 s per run (about a second of wall time each): the walls alone, the
 // load at no delay, the load behind a 100 ms one-way delay.
@@ -95,12 +106,7 @@ void WriteRecordedHandPart(DemoContext& demo) {
               << FormatFixed(request.duration_s, 0)
               << "`: a person's hand from a motion-capture take, scaled 1:50 (data/teleop/README.md), at the shipped "
                  "caps (10 mm/s, 1°/s), which its motion stays below. Hand-to-set-point delay: "
-              << (s["hand_to_setpoint_delay_ms"].is_number()
-                      ? FormatNumber(s["hand_to_setpoint_delay_ms"].get<double>(), "%.3g") + " ms"
-                      : std::string("none"))
-              << " (" << s["hand_to_setpoint_delay_status"].get<std::string>() << ", "
-              << FormatFixed(100 * s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0)
-              << " % of the set-points judged; the goal is 25 ms). The hand at up to " << mm_s("max_hand_speed_mm_s")
+              << DelayText(s) << "; the goal is 25 ms). The hand at up to " << mm_s("max_hand_speed_mm_s")
               << ", the follower at up to " << mm_s("max_follower_speed_mm_s")
               << "; set-points stopped at the boundary: " << s["setpoints_stopped_at_boundary"] << ".\n\n";
 }
@@ -190,11 +196,7 @@ void WriteTeleopSection(DemoContext& demo) {
               << num("max_follower_angular_speed_deg_s") << " °/s |\n"
               << "| hand-to-set-point delay (the transfer's filters, where the set-point follows a hand below the "
                  "caps) | "
-              << (s["hand_to_setpoint_delay_ms"].is_number() ? num("hand_to_setpoint_delay_ms") + " ms"
-                                                              : std::string("none"))
-              << " (" << s["hand_to_setpoint_delay_status"].get<std::string>() << ", "
-              << FormatFixed(100 * s["hand_to_setpoint_delay_judged_fraction"].get<double>(), 0)
-              << " % of the set-points judged) |\n"
+              << DelayText(s) << ") |\n"
               << "| watchdog holds | " << s["watchdog_holds"] << " |\n\n";
   demo.report << "Follower state transitions:";
   for (const auto& t : s["follower_transitions"]) {
