@@ -1,4 +1,4 @@
-// Numbers of the HAL follower against a real LinuxCNC HAL (halrun with data/hal/robossis-stepgen.hal):
+// Numbers of the HAL follower against a real LinuxCNC HAL (data/hal/robossis-stepgen.hal loaded):
 // - BM_CommandToStepLatency/M/A: from Command() of a one-step move of motor M until the follower's position
 //   feedback shows a new step count (stepgen generated the step; the feedback is captured by the 1 ms servo thread and sampled
 //   by a 20 kHz Service() loop), alternating directions; A = 1: with the HAL file's maxaccel, A = 0: maxaccel 0

@@ -1,5 +1,5 @@
-// The HAL follower against a real LinuxCNC HAL: halrun with the shipped software-stepgen file, the follower as its
-// userspace component, driven by the project's actuation (eq. 15-17) on an eq. 9 move. Each test starts halrun and
+// The HAL follower against a real LinuxCNC HAL: the shipped software-stepgen file loaded, the follower as its
+// userspace component, driven by the project's actuation (eq. 15-17) on an eq. 9 move. Each test starts HAL and
 // stops it (HalSession), even when it fails; the follower is destroyed first (halrun -U would signal it).
 
 #include <array>
@@ -246,6 +246,23 @@ TEST(HalFollowerSetupTest, HalFileWithoutTheFollowersSignalsIsANamedErrorAndLeav
     EXPECT_NE(std::string(e.what()).find("robossis-j0-pos-cmd"), std::string::npos) << e.what();
   }
   EXPECT_EQ(HalSession::Halcmd("list comp").find("robossis"), std::string::npos);
+  std::filesystem::remove(file);
+}
+
+TEST(HalSessionTest, AFileThatFailsIsAnErrorNamingTheLineAndLeavesNoComponent) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "robossis-unknown-component.hal";
+  {
+    std::ofstream out(file);
+    out << "loadrt threads name1=servo-thread period1=1000000\nloadrt robossis_no_such_component\n";
+  }
+  try {
+    HalSession session(file);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string() + ":2:"), std::string::npos) << e.what();
+  }
+  HalSession::PrepareEnvironment();
+  EXPECT_EQ(HalSession::Halcmd("list comp").find("threads"), std::string::npos);
   std::filesystem::remove(file);
 }
 

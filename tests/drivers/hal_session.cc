@@ -39,10 +39,29 @@ int Run(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// halrun -I reads its standard input only once the file is done: a signal made from there marks the end of the
-// file (its `start` included; a thread exists from its `loadrt threads` line on, long before the file's signals on a
-// loaded machine). Removed again once seen, so the session holds only what the file made.
-constexpr const char* kReadySignal = "robossis-hal-session-ready";
+// Runs `halcmd -f FILE` with its output in `log`, without a pipe: the first `loadrt` starts rtapi_app, which keeps
+// halcmd's output open for as long as HAL runs. Returns halcmd's exit status (-1 if it did not exit in time).
+int RunHalFile(const std::filesystem::path& hal_file, const std::filesystem::path& log) {
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork() failed");
+  if (pid == 0) {
+    const int in = open("/dev/null", O_RDONLY);
+    const int out = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(in, STDIN_FILENO);
+    dup2(out, STDOUT_FILENO);
+    dup2(out, STDERR_FILENO);
+    execlp("halcmd", "halcmd", "-f", hal_file.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  for (int i = 0; i < 600; ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return -1;
+}
 
 }  // namespace
 
@@ -55,17 +74,6 @@ void HalSession::PrepareEnvironment() {
   chmod(fifo_dir.c_str(), 0777);
   setenv("RTAPI_UID", std::to_string(nobody->pw_uid).c_str(), 1);
   setenv("RTAPI_FIFO_PATH", (fifo_dir / "rtapi_fifo").c_str(), 1);
-}
-
-bool HalSession::AnyComponentLoaded() {
-  std::string out;
-  if (Run("halcmd list comp", &out) != 0) return false;
-  std::istringstream words(out);
-  std::string w;
-  while (words >> w) {
-    if (w.rfind("halcmd", 0) != 0) return true;
-  }
-  return false;
 }
 
 std::string HalSession::Halcmd(const std::string& args) {
@@ -105,79 +113,27 @@ std::map<std::string, std::string> HalSession::PinValues(const std::string& pref
 
 HalSession::HalSession(const std::filesystem::path& hal_file) {
   PrepareEnvironment();
-  // A session left by a test binary that crashed would block this one: clear it.
-  if (AnyComponentLoaded()) Run("halrun -U", nullptr);
-  log_ = std::filesystem::temp_directory_path() / ("robossis-halrun-" + std::to_string(getpid()) + ".log");
-  int fds[2];
-  if (pipe(fds) != 0) throw std::runtime_error("pipe() failed");
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork() failed");
-  if (pid == 0) {
-    dup2(fds[0], STDIN_FILENO);
-    const int log = open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(log, STDOUT_FILENO);
-    dup2(log, STDERR_FILENO);
-    close(fds[0]);
-    close(fds[1]);
-    execlp("halrun", "halrun", "-I", "-f", hal_file.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(fds[0]);
-  stdin_fd_ = fds[1];
-  pid_ = pid;
-  const std::string ready = std::string("newsig ") + kReadySignal + " bit\n";
-  if (write(stdin_fd_, ready.data(), ready.size()) != static_cast<ssize_t>(ready.size())) {
-    Stop();
-    throw std::runtime_error("cannot write to halrun's standard input");
-  }
-  for (int i = 0; i < 200; ++i) {
-    std::string out;
-    if (Run("halcmd list sig", &out) == 0 && out.find(kReadySignal) != std::string::npos) {
-      Halcmd(std::string("delsig ") + kReadySignal);
-      // halcmd names a failed line "FILE:LINE: ..." and goes on to its standard input.
-      const std::string log = ReadFile(log_);
-      if (log.find(hal_file.string() + ":") == std::string::npos) return;
-      Stop();
-      throw std::runtime_error("halrun -f " + hal_file.string() + " failed: " + log);
-    }
-    int status;
-    if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  // What halrun does, without its interactive shell: a halcmd polling an interactive halrun for the end of its
+  // file raced halrun's own first halcmd for HAL's shared memory, and the file then did not load at all.
+  Stop();  // a session left by a test binary that crashed would block this one
+  log_ = std::filesystem::temp_directory_path() / ("robossis-halcmd-" + std::to_string(getpid()) + ".log");
+  if (RunHalFile(hal_file, log_) == 0) return;
   const std::string log = ReadFile(log_);
   Stop();
-  throw std::runtime_error("halrun -f " + hal_file.string() + " did not start: " + log);
+  throw std::runtime_error("halcmd -f " + hal_file.string() + " failed: " + log);
 }
 
 HalSession::~HalSession() { Stop(); }
 
 void HalSession::Stop() noexcept {
-  if (stdin_fd_ >= 0) {
-    close(stdin_fd_);  // halcmd -I sees end of input; halrun then unloads everything
-    stdin_fd_ = -1;
-  }
-  if (pid_ > 0) {
-    int status = 0;
-    bool exited = false;
-    for (int i = 0; i < 100 && !exited; ++i) {
-      exited = waitpid(pid_, &status, WNOHANG) == pid_;
-      if (!exited) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (!exited) {
-      kill(pid_, SIGTERM);
-      waitpid(pid_, &status, 0);
-    }
-    pid_ = -1;
-  }
   try {
-    if (AnyComponentLoaded()) Run("halrun -U", nullptr);
+    Run("halrun -U", nullptr);  // stops HAL's threads, unloads every component, ends rtapi_app
   } catch (const std::exception&) {
   }
-  std::error_code ec;
-  std::filesystem::remove(log_, ec);
+  if (!log_.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(log_, ec);
+  }
 }
 
 }  // namespace robossis::testing

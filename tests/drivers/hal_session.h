@@ -1,8 +1,7 @@
 #pragma once
-// A LinuxCNC HAL session for the tests: starts `halrun -I -f FILE` (interactive, so it stays up while its stdin is
-// open), waits until the file is loaded, runs halcmd, and always stops it again (destructor: closes halrun's stdin,
-// then `halrun -U`). As root, halrun needs RTAPI_UID (an unprivileged uid: the `nobody` account) and
-// RTAPI_FIFO_PATH (a folder that uid can write): the session sets both.
+// A LinuxCNC HAL session for the tests: loads FILE with `halcmd -f FILE` (HAL stays up after halcmd exits), runs
+// halcmd, and always stops it again (`halrun -U`, before and after). As root, HAL needs RTAPI_UID (an unprivileged
+// uid: the `nobody` account) and RTAPI_FIFO_PATH (a folder that uid can write): the session sets both.
 
 #include <filesystem>
 #include <map>
@@ -12,7 +11,7 @@ namespace robossis::testing {
 
 class HalSession {
  public:
-  // Throws std::runtime_error with halrun's output if the file does not load.
+  // Throws std::runtime_error with halcmd's output if the file does not load, and leaves no HAL running.
   explicit HalSession(const std::filesystem::path& hal_file);
   ~HalSession();
   HalSession(const HalSession&) = delete;
@@ -25,16 +24,12 @@ class HalSession {
   static bool GetBit(const std::string& name);
   // Every pin whose name starts with `prefix`, name -> value as halcmd prints it, from one `halcmd show pin`.
   static std::map<std::string, std::string> PinValues(const std::string& prefix);
-  // True if any HAL component is loaded (besides halcmd itself).
-  static bool AnyComponentLoaded();
   // Sets RTAPI_UID/RTAPI_FIFO_PATH in this process when running as root (idempotent).
   static void PrepareEnvironment();
 
  private:
   void Stop() noexcept;
 
-  int stdin_fd_ = -1;
-  int pid_ = -1;
   std::filesystem::path log_;
 };
 

@@ -1,5 +1,5 @@
 // The panel's own session on the robot's drives (`robossis panel --follower hal`): the follower unit's 10 kHz
-// actuation into the LinuxCNC HAL follower, driving a software stepgen in a halrun session the test starts and
+// actuation into the LinuxCNC HAL follower, driving a software stepgen in a HAL session the test starts and
 // stops. Once through the session's API (panel::LocalSessionBackend on its real-time loops), once through the
 // window (the `robossis panel` binary under Xvfb), as a person at the surgical unit would jog the robot.
 

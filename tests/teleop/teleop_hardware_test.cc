@@ -1,6 +1,6 @@
 // The whole runtime on the hardware back ends, as `robossis teleop --device dhd --follower hal` runs it: the Force
 // Dimension SDK back end against the fake SDK (tests/haptics/fake_dhd), the leader and follower units on real-time
-// loops, and the LinuxCNC HAL follower driving a software stepgen in a halrun session the test starts and stops.
+// loops, and the LinuxCNC HAL follower driving a software stepgen in a HAL session the test starts and stops.
 
 #include <dlfcn.h>
 
