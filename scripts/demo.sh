@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/stage.sh
 stage "install the Debian packages that are missing" bash scripts/install-deps.sh
-stage "configure and build build/ (Release; 423 s from cold in the last clean 2-core CI run)" bash scripts/build.sh
+stage "configure and build build/ (Release; 7–13 min from cold on 2 cores, by the machine)" bash scripts/build.sh
 stage "run robossis demo (each section reports its time)" ./build/robossis demo --out demo-report "$@"
 echo "demo.sh: report in demo-report/report.md; ${SECONDS} s in all"

@@ -8,5 +8,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/stage.sh
 stage "install the Debian packages that are missing" bash scripts/install-deps.sh
-stage "configure and build build/ (Release; 423 s from cold in the last clean 2-core CI run)" bash scripts/build.sh "$@"
+stage "configure and build build/ (Release; 7–13 min from cold on 2 cores, by the machine)" bash scripts/build.sh "$@"
 stage "run the whole suite on build/" ctest --test-dir build --output-on-failure --parallel "$(nproc)" --timeout 1500
