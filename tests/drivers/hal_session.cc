@@ -113,8 +113,8 @@ std::map<std::string, std::string> HalSession::PinValues(const std::string& pref
 
 HalSession::HalSession(const std::filesystem::path& hal_file) {
   PrepareEnvironment();
-  // What halrun does, without its interactive shell: a halcmd polling an interactive halrun for the end of its
-  // file raced halrun's own first halcmd for HAL's shared memory, and the file then did not load at all.
+  // What halrun does, without its interactive shell. Nothing polls HAL while the file loads: a halcmd started then
+  // can race the loading halcmd for HAL's shared memory, and the file does not load at all.
   Stop();  // a session left by a test binary that crashed would block this one
   log_ = std::filesystem::temp_directory_path() / ("robossis-halcmd-" + std::to_string(getpid()) + ".log");
   if (RunHalFile(hal_file, log_) == 0) return;
